@@ -1,0 +1,20 @@
+# Every dependency is a Debian 12 package (scripts/install-deps.sh installs them all) found
+# through its CMake package or pkg-config.
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED CONFIG)
+find_package(TinyGLTF REQUIRED CONFIG)
+find_package(tomlplusplus REQUIRED CONFIG)
+find_package(GTest REQUIRED)
+
+pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
+pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)
+pkg_check_modules(APRILTAG REQUIRED IMPORTED_TARGET apriltag)
+pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+
+# Debian ships OpenCV's CMake package only with the all-modules libopencv-dev (which drags
+# in VTK, Qt and more); we need four modules, so find them one by one.
+include(FindOpenCVModules)
+
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)

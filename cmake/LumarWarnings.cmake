@@ -1,0 +1,7 @@
+function(lumar_set_warnings target)
+  target_compile_options(${target} INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+                                             -Wcast-align -Woverloaded-virtual -Wnull-dereference)
+  if(LUMAR_WERROR)
+    target_compile_options(${target} INTERFACE -Werror)
+  endif()
+endfunction()

@@ -1,0 +1,47 @@
+// The default capture source: a deterministic, seeded synthetic scene — a textured table-top
+// with tag36h11 markers lying on it, seen by a camera moving along a known trajectory —
+// rendered on the CPU. Every frame's ground truth (each tag's camera_from_marker pose) is
+// available, so tests can check tracking and rendering against exact answers.
+//
+// World frame: the table-top is the plane z = 0 with z up; each tag's marker frame is the
+// world frame translated to the tag's centre (FakeTagConfig::position).
+#pragma once
+
+#include <vector>
+
+#include "capture/capture_source.h"
+#include "core/camera_model.h"
+#include "core/pose.h"
+
+namespace lumar {
+
+struct TagGroundTruth {
+    int id = 0;
+    double size = 0.0;
+    Pose cameraFromMarker;
+};
+
+class FakeCamera final : public CaptureSource {
+public:
+    // Throws InputError for an invalid scene (no tag, an id without a tag36h11 code, ...).
+    explicit FakeCamera(const CameraConfig& config);
+    ~FakeCamera() override;
+
+    bool next(Frame& frame) override;  // never ends
+    [[nodiscard]] int width() const override;
+    [[nodiscard]] int height() const override;
+    [[nodiscard]] double fps() const override;
+
+    // Renders frame `sequence` into `frame` (same result as the sequence-th call to next()).
+    void render(uint64_t sequence, Frame& frame) const;
+
+    [[nodiscard]] Pose cameraFromWorld(uint64_t sequence) const;
+    [[nodiscard]] std::vector<TagGroundTruth> groundTruth(uint64_t sequence) const;
+    [[nodiscard]] const CameraIntrinsics& intrinsics() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace lumar

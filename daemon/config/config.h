@@ -1,0 +1,101 @@
+// lumar's configuration: one TOML file (DESIGN.md §1). Parsing validates everything — unknown
+// keys, wrong types, out-of-range values, missing files — and throws InputError whose message
+// is one line "FILE:LINE: what is wrong". Relative paths in the file are resolved against the
+// file's directory; the built-in default resolves them against the installed asset directory.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace lumar {
+
+struct FakeTagConfig {
+    int id = 0;
+    double size = 0.16;        // metres, black border to black border
+    glm::dvec2 position{0.0};  // centre on the fake table-top, metres
+};
+
+struct CameraConfig {
+    std::string source = "fake";         // "fake" | "y4m" | "images"
+    std::filesystem::path path;           // y4m file or image folder (source y4m/images)
+    int width = 1280;                     // fake source only; file sources take their own size
+    int height = 720;
+    double fps = 30.0;
+    bool loop = true;                     // file sources: start again at the end
+    std::filesystem::path calibration;    // OpenCV FileStorage YAML; empty: ideal default
+    // Fake source scene.
+    uint64_t seed = 1;
+    double noiseSigma = 2.0;              // sensor noise, code values
+    std::vector<FakeTagConfig> fakeTags{FakeTagConfig{}};
+};
+
+struct TrackingConfig {
+    std::string family = "tag36h11";
+    double quadDecimate = 2.0;
+    double quadSigma = 0.0;
+    bool refineEdges = true;
+    double decodeSharpening = 0.25;
+    int threads = 2;
+};
+
+struct MarkerConfig {
+    int id = 0;
+    double size = 0.16;  // metres, black border to black border
+};
+
+struct ObjectConfig {
+    std::string name;
+    std::filesystem::path model;      // glTF 2.0 (.gltf or .glb)
+    int marker = 0;                   // id of the marker it sits on
+    glm::dvec3 offset{0.0};           // metres, marker frame
+    glm::dvec3 rotationDeg{0.0};      // XYZ Euler angles applied after the Y-up→Z-up turn
+    double scale = 1.0;               // uniform; or set `size` to fit the longest side
+    double size = 0.0;                // metres; > 0 overrides scale
+};
+
+struct EnvironmentConfig {
+    std::filesystem::path hdr;        // equirectangular Radiance .hdr
+    double intensity = 1.0;
+};
+
+struct OutputConfig {
+    std::string sink = "headless";    // "headless" (files) | "none"
+    std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file
+};
+
+struct Config {
+    std::filesystem::path sourceFile;  // empty for the built-in default
+    std::string logLevel = "info";
+    CameraConfig camera;
+    TrackingConfig tracking;
+    std::vector<MarkerConfig> markers;
+    std::vector<ObjectConfig> objects;
+    EnvironmentConfig environment;
+    OutputConfig output;
+
+    // The size of marker `id`, or 0 when the config does not know that marker.
+    [[nodiscard]] double markerSize(int id) const;
+};
+
+// Parses and validates TOML text. `fileName` is used in messages, relative paths resolve
+// against `baseDir`. Throws InputError.
+Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
+                   const std::filesystem::path& baseDir);
+
+// Reads and parses a file. Throws InputError (including "cannot read").
+Config loadConfig(const std::filesystem::path& file);
+
+// The built-in default: fake camera, shipped model, HDR map and calibration.
+Config defaultConfig();
+std::string_view defaultConfigText();
+
+// Where the shipped assets live: $LUMAR_ASSET_DIR, else next to the executable
+// (../share/lumar when installed), else the source tree's daemon/assets.
+std::filesystem::path assetDirectory();
+
+} // namespace lumar

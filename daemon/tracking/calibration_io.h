@@ -1,0 +1,17 @@
+// Camera calibration files in OpenCV FileStorage YAML: camera_matrix (3x3),
+// distortion_coefficients (1x5 or 5x1), image_width, image_height.
+#pragma once
+
+#include <filesystem>
+
+#include "core/camera_model.h"
+
+namespace lumar {
+
+// Throws InputError "FILE: what is wrong" for a missing, malformed or implausible file.
+CameraIntrinsics loadCalibration(const std::filesystem::path& file);
+
+// Throws RuntimeError when the file cannot be written.
+void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics);
+
+} // namespace lumar
