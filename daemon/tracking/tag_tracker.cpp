@@ -1,0 +1,180 @@
+#include "tracking/tag_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <apriltag/apriltag.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "tracking/apriltag_family.h"
+
+namespace lumar {
+namespace {
+
+struct DetectorDeleter {
+    void operator()(apriltag_detector_t* detector) const { apriltag_detector_destroy(detector); }
+};
+using DetectorPtr = std::unique_ptr<apriltag_detector_t, DetectorDeleter>;
+
+// apriltag_detections_destroy frees the array and every detection in it.
+struct DetectionsDeleter {
+    void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
+};
+using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
+
+// Below this the library's 4x4 threshold tiles degenerate, and no tag fits anyway.
+constexpr int kMinImageSide = 8;
+constexpr int kMaxThreads = 64;
+
+// See CMakeLists.txt: older libraries crash at random with more than one thread.
+#ifdef LUMAR_APRILTAG_THREADS_UNSAFE
+constexpr bool kLibraryThreadsAreSafe = false;
+#else
+constexpr bool kLibraryThreadsAreSafe = true;
+#endif
+
+void validate(const TrackingConfig& config, const CameraIntrinsics& k, const TagSizes& sizes)
+{
+    if (!(config.quadDecimate >= 1.0 && config.quadDecimate <= 16.0))
+        throw InputError("tracking: quad_decimate must be in [1, 16], got " + std::to_string(config.quadDecimate));
+    if (!std::isfinite(config.quadSigma) || std::abs(config.quadSigma) > 16.0)
+        throw InputError("tracking: quad_sigma must be in [-16, 16], got " + std::to_string(config.quadSigma));
+    if (!(config.decodeSharpening >= 0.0 && config.decodeSharpening <= 16.0))
+        throw InputError("tracking: decode_sharpening must be in [0, 16], got " +
+                         std::to_string(config.decodeSharpening));
+    if (config.threads < 1 || config.threads > kMaxThreads)
+        throw InputError("tracking: threads must be in [1, " + std::to_string(kMaxThreads) + "], got " +
+                         std::to_string(config.threads));
+    if (k.width <= 0 || k.height <= 0 || !(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) ||
+        !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
+        throw InputError("tracking: camera intrinsics need a positive image size and focal lengths");
+    const auto validSize = [](double s) { return std::isfinite(s) && s >= 0.0; };
+    if (!validSize(sizes.fallback))
+        throw InputError("tracking: the default tag size must be a finite length >= 0");
+    for (const auto& [id, size] : sizes.byId)
+        if (!validSize(size))
+            throw InputError("tracking: the size of tag " + std::to_string(id) + " must be a finite length >= 0");
+}
+
+// With quad_decimate 1 and a blur kernel wider than one pixel the library blurs (or
+// sharpens) its input in place; only then does it need a copy of our const frame.
+bool libraryWritesInput(const TrackingConfig& config)
+{
+    if (float(config.quadDecimate) > 1.0f)  // compared as the library stores it
+        return false;
+    int kernel = int(4.0f * std::abs(float(config.quadSigma)));
+    if (kernel % 2 == 0)
+        ++kernel;
+    return kernel > 1;
+}
+
+} // namespace
+
+struct TagTracker::Impl {
+    // Declared before the detector so that it outlives it: the detector only borrows it.
+    AprilTagFamilyPtr family;
+    DetectorPtr detector;
+    CameraIntrinsics intrinsics;
+    TagSizes sizes;
+    bool copyInput = false;
+    std::vector<uint8_t> scratch;  // the copy the library may modify, reused every frame
+};
+
+TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& intrinsics, TagSizes sizes)
+    : impl_(std::make_unique<Impl>())
+{
+    validate(config, intrinsics, sizes);
+    impl_->family = createAprilTagFamily(config.family);
+    impl_->detector.reset(apriltag_detector_create());
+    if (!impl_->detector)
+        throw RuntimeError("cannot create the AprilTag detector");
+    apriltag_detector_t& td = *impl_->detector;
+    td.quad_decimate = float(config.quadDecimate);
+    td.quad_sigma = float(config.quadSigma);
+    td.refine_edges = config.refineEdges;
+    td.decode_sharpening = config.decodeSharpening;
+    td.nthreads = kLibraryThreadsAreSafe ? config.threads : 1;
+    if (td.nthreads != config.threads) {
+        LUMAR_LOG(Tracking, Info) << "libapriltag " << LUMAR_APRILTAG_VERSION
+                                  << " can crash with several threads (fixed in 3.4.3): detecting on 1 thread, not "
+                                  << config.threads;
+    }
+    const int bits = correctableBitsFor(*impl_->family);
+    apriltag_detector_add_family_bits(&td, impl_->family.get(), bits);
+
+    impl_->intrinsics = intrinsics;
+    impl_->sizes = std::move(sizes);
+    impl_->copyInput = libraryWritesInput(config);
+    LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits
+                              << " bits), quad_decimate " << config.quadDecimate << ", quad_sigma "
+                              << config.quadSigma << ", refine_edges " << config.refineEdges << ", "
+                              << td.nthreads << " threads";
+}
+
+TagTracker::~TagTracker() = default;
+TagTracker::TagTracker(TagTracker&&) noexcept = default;
+TagTracker& TagTracker::operator=(TagTracker&&) noexcept = default;
+
+const CameraIntrinsics& TagTracker::intrinsics() const
+{
+    return impl_->intrinsics;
+}
+
+std::vector<TagDetection> TagTracker::detect(const Image8& luma)
+{
+    const CameraIntrinsics& k = impl_->intrinsics;
+    if (luma.channels != 1 || luma.width < 0 || luma.height < 0 ||
+        luma.data.size() != size_t(luma.width) * size_t(luma.height))
+        throw InputError("tracking: expected an 8-bit single-channel image, got " + std::to_string(luma.channels) +
+                         " channels");
+    if (luma.width != k.width || luma.height != k.height)
+        throw InputError("tracking: image is " + std::to_string(luma.width) + "x" + std::to_string(luma.height) +
+                         " but the camera intrinsics are for " + std::to_string(k.width) + "x" +
+                         std::to_string(k.height));
+    std::vector<TagDetection> result;
+    if (luma.width < kMinImageSide || luma.height < kMinImageSide)
+        return result;
+
+    // The library takes a mutable buffer but only reads it, except in the case above.
+    uint8_t* pixels = const_cast<uint8_t*>(luma.data.data());
+    if (impl_->copyInput) {
+        impl_->scratch.assign(luma.data.begin(), luma.data.end());
+        pixels = impl_->scratch.data();
+    }
+    image_u8_t image{luma.width, luma.height, luma.width, pixels};
+    const DetectionsPtr detections(apriltag_detector_detect(impl_->detector.get(), &image));
+    if (!detections)
+        throw RuntimeError("AprilTag detection failed");
+
+    const int count = zarray_size(detections.get());
+    result.reserve(size_t(count));
+    for (int i = 0; i < count; ++i) {
+        apriltag_detection_t* det = nullptr;
+        zarray_get(detections.get(), i, &det);
+        TagDetection d;
+        d.id = det->id;
+        d.hamming = det->hamming;
+        d.decisionMargin = det->decision_margin;
+        // The library's pixel (0,0) covers [0,1]^2, ours [-0.5,0.5]^2 (DESIGN.md §5).
+        for (int c = 0; c < 4; ++c)
+            d.corners[size_t(c)] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
+        const double size = impl_->sizes.of(d.id);
+        if (size > 0.0) {
+            d.hasPose = solveTagPose(d.corners, size, k, d.cameraFromMarker, d.reprojectionErrorPx);
+            if (!d.hasPose) {
+                LUMAR_LOG(Tracking, Debug) << "tag " << d.id << ": no plausible pose";
+            }
+        }
+        result.push_back(d);
+    }
+    std::sort(result.begin(), result.end(), [](const TagDetection& a, const TagDetection& b) {
+        if (a.id != b.id)
+            return a.id < b.id;
+        return a.corners[0].x < b.corners[0].x;
+    });
+    return result;
+}
+
+} // namespace lumar
