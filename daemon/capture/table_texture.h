@@ -1,0 +1,37 @@
+// The fake scene's table-top: a seeded, procedural wood texture (growth-ring grain along x,
+// warped, with fibre streaks and slow tint changes) with the lamp's light baked in, stored
+// once per camera so rendering a frame is one texel fetch per ray.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "capture/fake_scene_shading.h"
+
+namespace lumar {
+
+class TableTexture {
+public:
+    static constexpr int kResolution = 2048;  // texels per side: 0.59 mm each
+    static constexpr float kTexelsPerMetre = float(kResolution) / (2.0f * fake_scene::kTableHalfSize);
+
+    explicit TableTexture(uint64_t seed);
+
+    // The texel under table point (x, y), |x|, |y| <= kTableHalfSize (sRGB code values).
+    [[nodiscard]] fake_scene::PackedRgb at(float x, float y) const
+    {
+        const int tx = clampIndex(int((x + fake_scene::kTableHalfSize) * kTexelsPerMetre));
+        const int ty = clampIndex(int((y + fake_scene::kTableHalfSize) * kTexelsPerMetre));
+        return texels_[size_t(ty) * kResolution + size_t(tx)];
+    }
+
+    // Row-major texels, row 0 at y = −kTableHalfSize, for callers that compute indices in bulk.
+    [[nodiscard]] const fake_scene::PackedRgb* texels() const { return texels_.data(); }
+
+private:
+    static int clampIndex(int i) { return i < 0 ? 0 : (i >= kResolution ? kResolution - 1 : i); }
+
+    std::vector<fake_scene::PackedRgb> texels_;
+};
+
+} // namespace lumar
