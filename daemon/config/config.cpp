@@ -1,0 +1,251 @@
+// Parsing and validation of lumar's TOML configuration (config.h): one function per section,
+// each reading its keys through a TableReader that rejects unknown keys and bad values.
+#include "config/config.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "config/toml_reader.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace lumar {
+namespace {
+
+using config_detail::TableReader;
+using Expect = TableReader::Expect;
+
+constexpr int kTag36h11Codes = 587;
+constexpr std::initializer_list<std::string_view> kTagFamilies = {
+    "tag36h11", "tag25h9", "tag16h5", "tagCircle21h7", "tagCircle49h12", "tagStandard41h12", "tagStandard52h13",
+    "tagCustom48h12"};
+
+struct Context {
+    std::string fileName;
+    std::filesystem::path baseDir;
+};
+
+// Reads the elements of an array of tables, one TableReader each ("objects[2]").
+template <typename Fn>
+void forEachTable(TableReader& parent, std::string_view key, Fn&& fn)
+{
+    const toml::array* array = parent.arrayOfTables(key);
+    if (!array)
+        return;
+    for (size_t i = 0; i < array->size(); ++i) {
+        TableReader r(*array->get(i)->as_table(), parent.keyName(key) + "[" + std::to_string(i) + "]",
+                      parent.fileName());
+        fn(r, array->get(i));
+        r.finish();
+    }
+}
+
+void checkEven(TableReader& r, std::string_view key, int value)
+{
+    if (value % 2 != 0)
+        r.fail(nullptr, key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
+}
+
+void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
+{
+    const toml::table* table = root.table("camera");
+    if (!table)
+        return;
+    TableReader r(*table, "camera", ctx.fileName);
+    r.oneOf("source", camera.source, {"fake", "y4m", "images"});
+    r.integer("width", camera.width, 16, 8192);
+    checkEven(r, "width", camera.width);
+    r.integer("height", camera.height, 16, 8192);
+    checkEven(r, "height", camera.height);
+    r.number("fps", camera.fps, 0.0, 240.0, true);
+    r.boolean("loop", camera.loop);
+    r.unsignedInteger("seed", camera.seed);
+    r.number("noise", camera.noiseSigma, 0.0, 50.0);
+    r.path("calibration", camera.calibration, ctx.baseDir, Expect::File);
+    const bool fromFile = camera.source == "y4m" || camera.source == "images";
+    r.path("path", camera.path, ctx.baseDir, camera.source == "images" ? Expect::Directory : Expect::File);
+    if (fromFile && camera.path.empty())
+        r.failMissing("path");
+
+    if (r.has("fake_tags")) {
+        camera.fakeTags.clear();
+        std::set<int> ids;
+        forEachTable(r, "fake_tags", [&](TableReader& t, const toml::node* node) {
+            FakeTagConfig tag;
+            if (!t.has("id"))
+                t.failMissing("id");
+            t.integer("id", tag.id, 0, kTag36h11Codes - 1);
+            t.number("size", tag.size, 0.005, 2.0, true);
+            t.vec2("position", tag.position, 0.5);
+            if (!ids.insert(tag.id).second)
+                t.fail(node, "id", "duplicate fake tag id " + std::to_string(tag.id));
+            camera.fakeTags.push_back(tag);
+        });
+    }
+    r.finish();
+}
+
+void readTracking(TableReader& root, TrackingConfig& tracking, const Context& ctx)
+{
+    const toml::table* table = root.table("tracking");
+    if (!table)
+        return;
+    TableReader r(*table, "tracking", ctx.fileName);
+    r.oneOf("family", tracking.family, kTagFamilies);
+    r.number("quad_decimate", tracking.quadDecimate, 1.0, 8.0);
+    r.number("quad_sigma", tracking.quadSigma, 0.0, 5.0);
+    r.boolean("refine_edges", tracking.refineEdges);
+    r.number("decode_sharpening", tracking.decodeSharpening, 0.0, 5.0);
+    r.integer("threads", tracking.threads, 1, 64);
+    r.finish();
+}
+
+void readMarkers(TableReader& root, std::vector<MarkerConfig>& markers)
+{
+    std::set<int> ids;
+    forEachTable(root, "markers", [&](TableReader& r, const toml::node* node) {
+        MarkerConfig marker;
+        if (!r.has("id"))
+            r.failMissing("id");
+        r.integer("id", marker.id, 0, 1 << 20);
+        if (!r.has("size"))
+            r.failMissing("size");
+        r.number("size", marker.size, 0.005, 2.0, true);
+        if (!ids.insert(marker.id).second)
+            r.fail(node, "id", "duplicate marker id " + std::to_string(marker.id));
+        markers.push_back(marker);
+    });
+}
+
+void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const std::vector<MarkerConfig>& markers,
+                 const Context& ctx)
+{
+    std::set<std::string> names;
+    forEachTable(root, "objects", [&](TableReader& r, const toml::node* node) {
+        ObjectConfig object;
+        object.name = "object" + std::to_string(objects.size());
+        r.string("name", object.name);
+        if (object.name.empty())
+            r.fail(node, "name", "must not be empty");
+        if (!names.insert(object.name).second)
+            r.fail(node, "name", "duplicate object name '" + object.name + "'");
+        if (!r.has("model"))
+            r.failMissing("model");
+        r.path("model", object.model, ctx.baseDir, Expect::File);
+        const auto extension = object.model.extension();
+        if (extension != ".gltf" && extension != ".glb")
+            r.fail(node, "model", object.model.string() + ": expected a .gltf or .glb file");
+        if (!r.has("marker"))
+            r.failMissing("marker");
+        r.integer("marker", object.marker, 0, 1 << 20);
+        bool known = false;
+        for (const MarkerConfig& m : markers)
+            known = known || m.id == object.marker;
+        if (!known)
+            r.fail(node, "marker", "marker " + std::to_string(object.marker) + " is not listed in [[markers]]");
+        r.vec3("offset", object.offset);
+        r.vec3("rotation", object.rotationDeg);
+        r.number("scale", object.scale, 0.0, 1e6, true);
+        r.number("size", object.size, 0.0, 1e3, true);
+        objects.push_back(object);
+    });
+}
+
+void readEnvironment(TableReader& root, EnvironmentConfig& environment, const Context& ctx)
+{
+    const toml::table* table = root.table("environment");
+    if (!table)
+        return;
+    TableReader r(*table, "environment", ctx.fileName);
+    r.path("hdr", environment.hdr, ctx.baseDir, Expect::File);
+    r.number("intensity", environment.intensity, 0.0, 100.0);
+    r.finish();
+}
+
+void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
+{
+    const toml::table* table = root.table("output");
+    if (!table)
+        return;
+    TableReader r(*table, "output", ctx.fileName);
+    r.oneOf("sink", output.sink, {"headless", "none"});
+    r.path("path", output.path, ctx.baseDir, Expect::Parent);
+    const auto extension = output.path.extension();
+    if (!output.path.empty() && extension != ".png" && extension != ".y4m")
+        r.fail(table->get("path"), "path", output.path.string() + ": expected a .png or .y4m file");
+    r.finish();
+}
+
+void readLogLevel(TableReader& root, std::string& level)
+{
+    root.string("log_level", level);
+    std::string_view spec = level;
+    while (!spec.empty()) {
+        const size_t comma = spec.find(',');
+        const std::string_view item = spec.substr(0, comma);
+        spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
+        const size_t colon = item.find(':');
+        log::Level parsed{};
+        if (!log::parseLevel(colon == std::string_view::npos ? item : item.substr(colon + 1), parsed))
+            root.fail(nullptr, "log_level", "'" + level + "' is not a level spec (e.g. info, or capture:debug,*:warn)");
+    }
+}
+
+} // namespace
+
+double Config::markerSize(int id) const
+{
+    for (const MarkerConfig& m : markers)
+        if (m.id == id)
+            return m.size;
+    return 0.0;
+}
+
+Config parseConfig(std::string_view text, const std::filesystem::path& fileName, const std::filesystem::path& baseDir)
+{
+    const Context ctx{fileName.string(), baseDir};
+    toml::table root;
+    try {
+        root = toml::parse(text, fileName.string());
+    } catch (const toml::parse_error& e) {
+        std::string what(e.description());
+        if (const size_t nl = what.find('\n'); nl != std::string::npos)
+            what.resize(nl);
+        throw InputError(ctx.fileName + ":" + std::to_string(e.source().begin.line) + ": " + what);
+    }
+
+    Config config;
+    config.sourceFile = fileName;
+    TableReader r(root, "", ctx.fileName);
+    readLogLevel(r, config.logLevel);
+    readCamera(r, config.camera, ctx);
+    readTracking(r, config.tracking, ctx);
+    readMarkers(r, config.markers);
+    readObjects(r, config.objects, config.markers, ctx);
+    readEnvironment(r, config.environment, ctx);
+    readOutput(r, config.output, ctx);
+    r.finish();
+    return config;
+}
+
+Config loadConfig(const std::filesystem::path& file)
+{
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec))
+        throw InputError(file.string() + ": cannot read: is a directory");
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw InputError(file.string() + ": cannot read: " + std::strerror(errno));
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (in.bad())
+        throw InputError(file.string() + ": cannot read: I/O error");
+    const std::filesystem::path base = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+    Config config = parseConfig(text, file, base);
+    LUMAR_LOG(Config, Debug) << "loaded " << file.string();
+    return config;
+}
+
+} // namespace lumar

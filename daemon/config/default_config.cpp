@@ -1,0 +1,92 @@
+// The built-in configuration (what `lumar render` and `lumar run` use without --config) and
+// the directory the shipped assets it names are found in.
+#include <cstdlib>
+#include <unistd.h>
+
+#include "config/config.h"
+
+namespace lumar {
+namespace {
+
+// Kept equal to daemon/assets/lumar.toml (a test compares the two).
+constexpr std::string_view kDefaultConfig = R"toml(
+log_level = "info"
+
+[camera]
+source = "fake"
+width = 1280
+height = 720
+fps = 30.0
+loop = true
+calibration = "calibration/fake_camera_1280x720.yaml"
+seed = 1
+noise = 2.0
+
+[[camera.fake_tags]]
+id = 0
+size = 0.16
+position = [0.0, 0.0]
+
+[tracking]
+family = "tag36h11"
+quad_decimate = 2.0
+quad_sigma = 0.0
+refine_edges = true
+decode_sharpening = 0.25
+threads = 2
+
+[[markers]]
+id = 0
+size = 0.16
+
+[[objects]]
+name = "truck"
+model = "models/CesiumMilkTruck.glb"
+marker = 0
+offset = [0.0, 0.0, 0.0]
+rotation = [0.0, 0.0, 0.0]
+size = 0.12
+
+[environment]
+hdr = "env/venice_sunset_1k.hdr"
+intensity = 1.0
+
+[output]
+sink = "headless"
+)toml";
+
+bool isDirectory(const std::filesystem::path& p)
+{
+    std::error_code ec;
+    return std::filesystem::is_directory(p, ec);
+}
+
+} // namespace
+
+std::string_view defaultConfigText()
+{
+    return kDefaultConfig;
+}
+
+Config defaultConfig()
+{
+    return parseConfig(kDefaultConfig, "<built-in>", assetDirectory());
+}
+
+std::filesystem::path assetDirectory()
+{
+    if (const char* env = std::getenv("LUMAR_ASSET_DIR"); env && isDirectory(env))
+        return env;
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const auto installed = exe.parent_path().parent_path() / "share" / "lumar";
+        if (isDirectory(installed))
+            return installed;
+    }
+    if (isDirectory(LUMAR_INSTALL_ASSET_DIR))
+        return LUMAR_INSTALL_ASSET_DIR;
+    return std::filesystem::path(LUMAR_SOURCE_ASSET_DIR).lexically_normal();
+}
+
+} // namespace lumar

@@ -1,0 +1,59 @@
+// Typed, validating access to one TOML table. Every value read is checked for type and range,
+// every key read is remembered, and finish() rejects the keys nobody read — so a typo in a
+// config file is an error with its line, not a silently ignored setting.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+
+#include <glm/glm.hpp>
+#include <toml++/toml.h>
+
+namespace lumar::config_detail {
+
+class TableReader {
+public:
+    // `keyPath` is the dotted path of this table in messages ("" for the root, "objects[1]").
+    TableReader(const toml::table& table, std::string keyPath, std::string fileName);
+
+    // Each getter leaves `out` unchanged when the key is absent (the default stays) and throws
+    // InputError "FILE:LINE: key: what is wrong" for a wrong type or a value out of range.
+    void integer(std::string_view key, int& out, long long min, long long max);
+    void unsignedInteger(std::string_view key, uint64_t& out);
+    void number(std::string_view key, double& out, double min, double max, bool minExclusive = false);
+    void boolean(std::string_view key, bool& out);
+    void string(std::string_view key, std::string& out);
+    void oneOf(std::string_view key, std::string& out, std::initializer_list<std::string_view> allowed);
+    void vec2(std::string_view key, glm::dvec2& out, double limit);
+    void vec3(std::string_view key, glm::dvec3& out);
+    // A path, resolved against baseDir; `mustExist` checks the file (or directory) exists.
+    enum class Expect { File, Directory, Parent };
+    void path(std::string_view key, std::filesystem::path& out, const std::filesystem::path& baseDir, Expect expect);
+
+    [[nodiscard]] bool has(std::string_view key) const { return table_.contains(key); }
+    // A sub-table or array of tables, marked as read; nullptr when absent.
+    const toml::table* table(std::string_view key);
+    const toml::array* arrayOfTables(std::string_view key);
+
+    // Throws for the first key that was never read.
+    void finish() const;
+
+    [[noreturn]] void fail(const toml::node* node, std::string_view key, const std::string& what) const;
+    [[noreturn]] void failMissing(std::string_view key) const;
+    [[nodiscard]] std::string keyName(std::string_view key) const;
+    [[nodiscard]] const std::string& fileName() const { return fileName_; }
+    [[nodiscard]] const std::string& keyPath() const { return keyPath_; }
+
+private:
+    const toml::node* find(std::string_view key);
+
+    const toml::table& table_;
+    std::string keyPath_;
+    std::string fileName_;
+    std::set<std::string, std::less<>> read_;
+};
+
+} // namespace lumar::config_detail
