@@ -19,9 +19,6 @@ using config_detail::TableReader;
 using Expect = TableReader::Expect;
 
 constexpr int kTag36h11Codes = 587;
-constexpr std::initializer_list<std::string_view> kTagFamilies = {
-    "tag36h11", "tag25h9", "tag16h5", "tagCircle21h7", "tagCircle49h12", "tagStandard41h12", "tagStandard52h13",
-    "tagCustom48h12"};
 
 struct Context {
     std::string fileName;
@@ -46,7 +43,7 @@ void forEachTable(TableReader& parent, std::string_view key, Fn&& fn)
 void checkEven(TableReader& r, std::string_view key, int value)
 {
     if (value % 2 != 0)
-        r.fail(nullptr, key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
+        r.fail(r.node(key), key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
 }
 
 void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
@@ -94,7 +91,9 @@ void readTracking(TableReader& root, TrackingConfig& tracking, const Context& ct
     if (!table)
         return;
     TableReader r(*table, "tracking", ctx.fileName);
-    r.oneOf("family", tracking.family, kTagFamilies);
+    r.oneOf("family", tracking.family,
+            {"tag36h11", "tag25h9", "tag16h5", "tagCircle21h7", "tagCircle49h12", "tagStandard41h12",
+             "tagStandard52h13", "tagCustom48h12"});
     r.number("quad_decimate", tracking.quadDecimate, 1.0, 8.0);
     r.number("quad_sigma", tracking.quadSigma, 0.0, 5.0);
     r.boolean("refine_edges", tracking.refineEdges);

@@ -1,6 +1,7 @@
 #include "toml_reader.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 
@@ -22,10 +23,9 @@ const char* typeName(const toml::node& node)
 
 std::string formatNumber(double v)
 {
-    std::string s = std::to_string(v);
-    while (s.size() > 1 && s.back() == '0' && s[s.size() - 2] != '.')
-        s.pop_back();
-    return s;
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
 }
 
 } // namespace

@@ -34,6 +34,7 @@ public:
     void path(std::string_view key, std::filesystem::path& out, const std::filesystem::path& baseDir, Expect expect);
 
     [[nodiscard]] bool has(std::string_view key) const { return table_.contains(key); }
+    [[nodiscard]] const toml::node* node(std::string_view key) const { return table_.get(key); }
     // A sub-table or array of tables, marked as read; nullptr when absent.
     const toml::table* table(std::string_view key);
     const toml::array* arrayOfTables(std::string_view key);
