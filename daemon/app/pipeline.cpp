@@ -1,0 +1,134 @@
+#include "pipeline.h"
+
+#include <chrono>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "gles_renderer/environment_map.h"
+#include "gles_renderer/gltf_model.h"
+#include "object_placement.h"
+#include "tracking/calibration_io.h"
+
+namespace lumar {
+namespace {
+
+// A marker missed for a few frames (motion blur, a hand passing) keeps its last pose so
+// objects do not flicker; after that they disappear rather than float in a stale place.
+constexpr uint64_t kMarkerHoldFrames = 5;
+
+double millisecondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+CameraIntrinsics intrinsicsFor(const CameraConfig& camera, int width, int height)
+{
+    if (camera.calibration.empty())
+        return defaultIntrinsics(width, height);
+    CameraIntrinsics k = loadCalibration(camera.calibration);
+    if (k.width != width || k.height != height)
+        throw InputError(camera.calibration.string() + ": calibrated for " + std::to_string(k.width) + "x" +
+                         std::to_string(k.height) + " but the camera delivers " + std::to_string(width) + "x" +
+                         std::to_string(height));
+    return k;
+}
+
+TagSizes tagSizesFor(const Config& config)
+{
+    TagSizes sizes;
+    for (const MarkerConfig& m : config.markers)
+        sizes.byId[m.id] = m.size;
+    return sizes;
+}
+
+// A dim neutral environment for configs without an HDR map.
+ImageF neutralEnvironment()
+{
+    ImageF env(8, 4, 3);
+    std::fill(env.data.begin(), env.data.end(), 0.5f);
+    return env;
+}
+
+} // namespace
+
+Pipeline::Pipeline(const Config& config) : config_(config)
+{
+    capture_ = openCaptureSource(config_.camera);
+    intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
+    tracker_ = std::make_unique<TagTracker>(config_.tracking, intrinsics_, tagSizesFor(config_));
+
+    // Load every file before creating the GL context, so bad input is reported as such even
+    // on a machine without EGL.
+    std::vector<GltfModel> models;
+    models.reserve(config_.objects.size());
+    for (const ObjectConfig& object : config_.objects)
+        models.push_back(loadGltfModel(object.model));
+    const ImageF environment =
+        config_.environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(config_.environment.hdr);
+
+    renderer_ = SceneRenderer::create(capture_->width(), capture_->height());
+    renderer_->setEnvironment(environment, float(config_.environment.intensity));
+    for (size_t i = 0; i < models.size(); ++i) {
+        const ObjectConfig& object = config_.objects[i];
+        PlacedObject placed;
+        placed.model = renderer_->addModel(models[i]);
+        placed.marker = object.marker;
+        placed.markerFromModel = markerFromModel(object, models[i].boundsMin, models[i].boundsMax);
+        objects_.push_back(placed);
+        LUMAR_LOG(App, Info) << "object '" << object.name << "': " << object.model.string() << " ("
+                             << models[i].triangleCount() << " triangles) on marker " << object.marker;
+    }
+    drawItems_.reserve(objects_.size());
+}
+
+Pipeline::~Pipeline() = default;
+
+void Pipeline::updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence)
+{
+    for (const TagDetection& d : detections) {
+        if (!d.hasPose)
+            continue;
+        markers_[d.id] = MarkerState{d.cameraFromMarker, sequence};
+    }
+}
+
+bool Pipeline::step(FrameReport& report)
+{
+    auto start = std::chrono::steady_clock::now();
+    if (!capture_->next(frame_))
+        return false;
+    report.sequence = frame_.sequence;
+    report.timestampNs = frame_.timestampNs;
+    report.times.captureMs = millisecondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    report.detections = tracker_->detect(frame_.luma);
+    updateMarkers(report.detections, frame_.sequence);
+    report.times.detectMs = millisecondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    drawItems_.clear();
+    const MarkerState* environmentAnchor = nullptr;
+    for (const PlacedObject& object : objects_) {
+        const auto it = markers_.find(object.marker);
+        if (it == markers_.end() || frame_.sequence - it->second.lastSeen > kMarkerHoldFrames)
+            continue;
+        drawItems_.push_back({object.model, it->second.cameraFromMarker.matrix() * object.markerFromModel});
+        if (!environmentAnchor)
+            environmentAnchor = &it->second;
+    }
+    if (environmentAnchor) {
+        const glm::dmat3 markerFromCamera = glm::transpose(environmentAnchor->cameraFromMarker.R);
+        renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
+    }
+    renderer_->render(frame_.rgb, intrinsics_, drawItems_);
+    report.objectsDrawn = int(drawItems_.size());
+    report.times.renderMs = millisecondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    renderer_->readback(output_);
+    report.times.readbackMs = millisecondsSince(start);
+    return true;
+}
+
+} // namespace lumar

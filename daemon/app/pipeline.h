@@ -1,0 +1,73 @@
+// One frame's path (DESIGN.md §3): capture → tracking → scene → renderer. The pipeline owns
+// one instance of each stage, built from a validated Config, and reuses every buffer from
+// frame to frame.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "capture/capture_source.h"
+#include "config/config.h"
+#include "core/camera_model.h"
+#include "core/frame.h"
+#include "gles_renderer/scene_renderer.h"
+#include "tracking/tag_tracker.h"
+
+namespace lumar {
+
+struct StageTimes {
+    double captureMs = 0, detectMs = 0, renderMs = 0, readbackMs = 0;
+};
+
+struct FrameReport {
+    uint64_t sequence = 0;
+    int64_t timestampNs = 0;
+    std::vector<TagDetection> detections;
+    int objectsDrawn = 0;
+    StageTimes times;
+};
+
+class Pipeline {
+public:
+    // Opens the camera, loads calibration, models and environment, creates the GL context.
+    // Throws InputError for bad files, RuntimeError for a platform failure.
+    explicit Pipeline(const Config& config);
+    ~Pipeline();
+    Pipeline(const Pipeline&) = delete;
+    Pipeline& operator=(const Pipeline&) = delete;
+
+    // Processes the next camera frame; false at the end of a finite source.
+    bool step(FrameReport& report);
+
+    [[nodiscard]] const Image8& output() const { return output_; }
+    [[nodiscard]] const Frame& cameraFrame() const { return frame_; }
+    [[nodiscard]] const CameraIntrinsics& intrinsics() const { return intrinsics_; }
+    [[nodiscard]] double fps() const { return capture_->fps(); }
+
+private:
+    struct PlacedObject {
+        ModelId model = -1;
+        int marker = 0;
+        glm::dmat4 markerFromModel{1.0};
+    };
+    struct MarkerState {
+        Pose cameraFromMarker;
+        uint64_t lastSeen = 0;
+    };
+
+    void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence);
+
+    Config config_;
+    std::unique_ptr<CaptureSource> capture_;
+    CameraIntrinsics intrinsics_;
+    std::unique_ptr<TagTracker> tracker_;
+    std::unique_ptr<SceneRenderer> renderer_;
+    std::vector<PlacedObject> objects_;
+    std::map<int, MarkerState> markers_;
+    std::vector<DrawItem> drawItems_;
+    Frame frame_;
+    Image8 output_;
+};
+
+} // namespace lumar

@@ -1,0 +1,145 @@
+// The lumar command line as a user meets it: help, exit codes, and bad input reported in one
+// clear line naming the file — never a crash.
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_lumar.h"
+
+namespace lumar {
+namespace {
+
+using test::runLumar;
+
+const std::string kSource = LUMAR_SOURCE_DIR;
+const std::string kBox = kSource + "/tests/data/models/BoxTextured.glb";
+const std::string kHdr = kSource + "/daemon/assets/env/venice_sunset_1k.hdr";
+
+std::string sceneWith(const std::string& model, const std::string& hdr)
+{
+    return "[camera]\nwidth = 320\nheight = 240\n[[camera.fake_tags]]\nid = 0\nsize = 0.16\nposition = [0.0, 0.0]\n"
+           "[[markers]]\nid = 0\nsize = 0.16\n"
+           "[[objects]]\nmodel = \"" + model + "\"\nmarker = 0\nsize = 0.1\n"
+           "[environment]\nhdr = \"" + hdr + "\"\n";
+}
+
+size_t lineCount(const std::string& s)
+{
+    size_t n = 0;
+    for (char c : s)
+        n += c == '\n';
+    return n;
+}
+
+TEST(Cli, HelpForEveryCommand)
+{
+    const auto dir = test::scratchDirectory("help");
+    for (const char* command : {"render", "run", "check-config", "detect"}) {
+        const auto r = runLumar({command, "--help"}, dir);
+        EXPECT_EQ(r.exitCode, 0) << command;
+        EXPECT_NE(r.out.find("usage: lumar"), std::string::npos) << command;
+    }
+    EXPECT_EQ(runLumar({"--help"}, dir).exitCode, 0);
+    EXPECT_EQ(runLumar({}, dir).exitCode, 2);
+    EXPECT_EQ(runLumar({"frobnicate"}, dir).exitCode, 2);
+    EXPECT_EQ(runLumar({"render", "--no-such-option"}, dir).exitCode, 2);
+    EXPECT_EQ(runLumar({"render"}, dir).exitCode, 2) << "--out is required";
+}
+
+TEST(Cli, CheckConfigAcceptsTheShippedExample)
+{
+    const auto dir = test::scratchDirectory("check-ok");
+    const auto r = runLumar({"check-config", kSource + "/daemon/assets/lumar.toml"}, dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find(": ok"), std::string::npos);
+}
+
+TEST(Cli, CheckConfigReportsFileAndLine)
+{
+    const auto dir = test::scratchDirectory("check-bad");
+    const auto file = dir / "bad.toml";
+    std::ofstream(file) << "[camera]\nwidth = 1280\nheight = \"tall\"\n";
+    const auto r = runLumar({"check-config", file.string()}, dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_EQ(r.err.rfind(file.string() + ":3:", 0), 0u) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+}
+
+struct BadInputCase {
+    const char* name;
+    std::string mentions;  // what the one-line error must name
+};
+
+class RenderBadInput : public ::testing::Test {
+protected:
+    test::ProcessResult renderWith(const std::string& toml)
+    {
+        dir_ = test::scratchDirectory(::testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::ofstream(dir_ / "scene.toml") << toml;
+        return runLumar({"render", "--config", (dir_ / "scene.toml").string(), "--frames", "2", "--out",
+                         (dir_ / "out.png").string()},
+                        dir_);
+    }
+    void expectBadInput(const test::ProcessResult& r, const std::string& mentions)
+    {
+        EXPECT_EQ(r.exitCode, 2) << r.err;
+        EXPECT_NE(r.err.find(mentions), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find("Segmentation"), std::string::npos);
+        EXPECT_FALSE(std::filesystem::exists(dir_ / "out.png")) << "no output from a rejected configuration";
+    }
+    std::filesystem::path dir_;
+};
+
+TEST_F(RenderBadInput, SyntaxError)
+{
+    const auto r = renderWith("[camera\nwidth = 3\n");
+    expectBadInput(r, "scene.toml:1:");
+}
+
+TEST_F(RenderBadInput, MissingModel)
+{
+    const auto r = renderWith(sceneWith("/nonexistent/model.glb", kHdr));
+    expectBadInput(r, "model.glb");
+}
+
+TEST_F(RenderBadInput, CorruptGltf)
+{
+    dir_ = test::scratchDirectory("corrupt-gltf");
+    const auto model = dir_ / "broken.glb";
+    std::ofstream(model) << "glTF this is not a real binary glTF file";
+    const auto r = renderWith(sceneWith(model.string(), kHdr));
+    expectBadInput(r, "broken.glb");
+}
+
+TEST_F(RenderBadInput, CorruptHdr)
+{
+    dir_ = test::scratchDirectory("corrupt-hdr");
+    const auto hdr = dir_ / "broken.hdr";
+    std::ofstream(hdr) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 512 +X 1024\n\x01\x02";
+    const auto r = renderWith(sceneWith(kBox, hdr.string()));
+    expectBadInput(r, "broken.hdr");
+}
+
+TEST(Cli, DetectPrintsOneJsonObjectPerImage)
+{
+    const auto dir = test::scratchDirectory("detect");
+    const std::string photo = kSource + "/tests/data/apriltag/real/33369213973_9d9bb4cc96_c.jpg";
+    const auto r = runLumar({"detect", "--tag-size", "0.16", photo, "/nonexistent.png"}, dir);
+    EXPECT_EQ(r.exitCode, 2) << "one image was unreadable";
+    EXPECT_NE(r.err.find("/nonexistent.png"), std::string::npos) << r.err;
+    ASSERT_EQ(lineCount(r.out), 1u) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["file"], photo);
+    // The AprilTag library's own expected detections for this photo: 12 tags, all id 0.
+    ASSERT_EQ(j["detections"].size(), 12u);
+    for (const auto& d : j["detections"]) {
+        EXPECT_EQ(d["id"], 0);
+        EXPECT_EQ(d["corners"].size(), 4u);
+        EXPECT_EQ(d["R"].size(), 3u);
+        EXPECT_GT(d["t"][2].get<double>(), 0.0) << "tags lie in front of the camera";
+    }
+}
+
+} // namespace
+} // namespace lumar

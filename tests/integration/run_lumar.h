@@ -1,0 +1,62 @@
+// Runs the lumar binary as a user would and captures its exit code, stdout and stderr.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace lumar::test {
+
+struct ProcessResult {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+
+inline std::string readText(const std::filesystem::path& file)
+{
+    std::ifstream in(file);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+inline std::string shellQuote(const std::string& s)
+{
+    std::string q = "'";
+    for (char c : s)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// `args` are passed to lumar quoted one by one.
+inline ProcessResult runLumar(const std::vector<std::string>& args, const std::filesystem::path& workDir)
+{
+    const auto outFile = workDir / "stdout.txt", errFile = workDir / "stderr.txt";
+    std::string command = shellQuote(LUMAR_BINARY);
+    for (const std::string& a : args)
+        command += " " + shellQuote(a);
+    command += " >" + shellQuote(outFile) + " 2>" + shellQuote(errFile) + " </dev/null";
+    const int status = std::system(command.c_str());
+    ProcessResult r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readText(outFile);
+    r.err = readText(errFile);
+    return r;
+}
+
+// A fresh, empty directory for one test.
+inline std::filesystem::path scratchDirectory(const std::string& name)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("lumar-test-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+} // namespace lumar::test
