@@ -22,17 +22,27 @@ struct DrawItem {
     glm::dmat4 cameraFromModel{1.0};
 };
 
+struct RenderOptions {
+    // Multisample anti-aliasing samples per pixel (1 = off). Off by default: on llvmpipe
+    // 4x multiplies the frame time (see the renderer's README/report figures).
+    int samples = 1;
+};
+
 class SceneRenderer {
 public:
     // Creates the EGL display/context and framebuffers. Throws RuntimeError with a clear
     // message when no EGL or no GLES 3 context is available.
     static std::unique_ptr<SceneRenderer> create(int width, int height);
+    static std::unique_ptr<SceneRenderer> create(int width, int height, const RenderOptions& options);
     virtual ~SceneRenderer() = default;
 
     virtual ModelId addModel(const GltfModel& model) = 0;
     virtual void removeModels() = 0;
     // `equirect` is linear HDR radiance; `intensity` scales it.
     virtual void setEnvironment(const ImageF& equirect, float intensity) = 0;
+    // Rotation from the OpenCV camera frame to the environment map's frame (+Y up), so the
+    // real environment stays fixed to the world while the camera moves. Identity until set.
+    virtual void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) = 0;
 
     // Composites the models over `backgroundRgb` (3 channels, the output size).
     virtual void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,

@@ -1,12 +1,15 @@
 #version 300 es
 // The camera image, copied as it is: a pixel no virtual object touches leaves unchanged.
-precision mediump float;
+// The renderer keeps image row y in framebuffer row y (it draws "upside down" so that
+// glReadPixels returns row 0 first), so texel (x, y) goes to fragment (x, y): texelFetch
+// with no filtering makes the copy bit-exact.
+precision highp float;
+precision highp sampler2D;
 
 uniform sampler2D uCamera;
-in vec2 vUv;
 out vec4 fragColor;
 
 void main()
 {
-    fragColor = vec4(texture(uCamera, vUv).rgb, 1.0);
+    fragColor = vec4(texelFetch(uCamera, ivec2(gl_FragCoord.xy), 0).rgb, 1.0);
 }

@@ -45,7 +45,7 @@ model = "models/CesiumMilkTruck.glb"
 marker = 0
 offset = [0.0, 0.0, 0.0]
 rotation = [0.0, 0.0, 0.0]
-size = 0.12
+size = 0.2
 
 [environment]
 hdr = "env/venice_sunset_1k.hdr"

@@ -1,0 +1,176 @@
+#include "gles_renderer/egl_context.h"
+
+#include <mutex>
+#include <utility>
+
+#include <EGL/eglext.h>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace lumar {
+namespace {
+
+bool extensionListHas(std::string_view list, std::string_view name)
+{
+    // Names are separated by single spaces; match whole words only (EGL_KHR_image vs
+    // EGL_KHR_image_base).
+    size_t pos = 0;
+    while ((pos = list.find(name, pos)) != std::string_view::npos) {
+        const bool startOk = pos == 0 || list[pos - 1] == ' ';
+        const size_t end = pos + name.size();
+        const bool endOk = end == list.size() || list[end] == ' ';
+        if (startOk && endOk)
+            return true;
+        pos = end;
+    }
+    return false;
+}
+
+std::string eglErrorName(EGLint error)
+{
+    switch (error) {
+    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    default: return "EGL error " + std::to_string(error);
+    }
+}
+
+std::mutex sharedDisplayMutex;
+std::weak_ptr<EglDisplay> sharedDisplay;
+
+} // namespace
+
+std::shared_ptr<EglDisplay> EglDisplay::surfaceless()
+{
+    const std::lock_guard lock(sharedDisplayMutex);
+    if (auto existing = sharedDisplay.lock())
+        return existing;
+
+    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const std::string_view client = clientExtensions ? clientExtensions : "";
+    const auto getPlatformDisplay =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (!extensionListHas(client, "EGL_EXT_platform_base") ||
+        !extensionListHas(client, "EGL_MESA_platform_surfaceless") || !getPlatformDisplay) {
+        throw RuntimeError("no EGL display for the surfaceless platform (is Mesa's libegl-mesa0 installed?)");
+    }
+
+    std::shared_ptr<EglDisplay> display(new EglDisplay());
+    display->display_ = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (display->display_ == EGL_NO_DISPLAY)
+        throw RuntimeError("no EGL display for the surfaceless platform (is Mesa's libegl-mesa0 installed?)");
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(display->display_, &major, &minor)) {
+        display->display_ = EGL_NO_DISPLAY;
+        throw RuntimeError("cannot initialise the surfaceless EGL display: " + eglErrorName(eglGetError()));
+    }
+    display->major_ = major;
+    display->minor_ = minor;
+    const char* extensions = eglQueryString(display->display_, EGL_EXTENSIONS);
+    display->extensions_ = extensions ? extensions : "";
+    sharedDisplay = display;
+    return display;
+}
+
+EglDisplay::EglDisplay(EglDisplay&& other) noexcept
+    : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), major_(other.major_), minor_(other.minor_),
+      extensions_(std::move(other.extensions_))
+{
+}
+
+EglDisplay& EglDisplay::operator=(EglDisplay&& other) noexcept
+{
+    if (this != &other) {
+        terminate();
+        display_ = std::exchange(other.display_, EGL_NO_DISPLAY);
+        major_ = other.major_;
+        minor_ = other.minor_;
+        extensions_ = std::move(other.extensions_);
+    }
+    return *this;
+}
+
+EglDisplay::~EglDisplay() { terminate(); }
+
+void EglDisplay::terminate()
+{
+    if (display_ != EGL_NO_DISPLAY)
+        eglTerminate(display_);
+    display_ = EGL_NO_DISPLAY;
+}
+
+bool EglDisplay::hasExtension(std::string_view name) const { return extensionListHas(extensions_, name); }
+
+EglContext::EglContext(std::shared_ptr<EglDisplay> display) : display_(std::move(display))
+{
+    const EGLDisplay dpy = display_->handle();
+    if (!display_->hasExtension("EGL_KHR_surfaceless_context"))
+        throw RuntimeError("no OpenGL ES 3 context: the EGL display lacks EGL_KHR_surfaceless_context");
+    if (!eglBindAPI(EGL_OPENGL_ES_API))
+        throw RuntimeError("no OpenGL ES 3 context: eglBindAPI(EGL_OPENGL_ES_API) failed: " +
+                           eglErrorName(eglGetError()));
+
+    // A context needs no config where EGL_KHR_no_config_context exists; otherwise any
+    // ES 3 config will do, since nothing is ever drawn to an EGL surface.
+    EGLConfig config = EGL_NO_CONFIG_KHR;
+    if (!display_->hasExtension("EGL_KHR_no_config_context")) {
+        const EGLint configAttributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
+        EGLint count = 0;
+        if (!eglChooseConfig(dpy, configAttributes, &config, 1, &count) || count < 1)
+            throw RuntimeError("no OpenGL ES 3 context: no EGL config with EGL_OPENGL_ES3_BIT");
+    }
+    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
+    context_ = eglCreateContext(dpy, config, EGL_NO_CONTEXT, contextAttributes);
+    if (context_ == EGL_NO_CONTEXT)
+        throw RuntimeError("no OpenGL ES 3 context: eglCreateContext failed: " + eglErrorName(eglGetError()));
+    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
+        const std::string error = eglErrorName(eglGetError());
+        destroy();
+        throw RuntimeError("no OpenGL ES 3 context: eglMakeCurrent without a surface failed: " + error);
+    }
+}
+
+EglContext::EglContext(EglContext&& other) noexcept
+    : display_(std::move(other.display_)), context_(std::exchange(other.context_, EGL_NO_CONTEXT))
+{
+}
+
+EglContext& EglContext::operator=(EglContext&& other) noexcept
+{
+    if (this != &other) {
+        destroy();
+        display_ = std::move(other.display_);
+        context_ = std::exchange(other.context_, EGL_NO_CONTEXT);
+    }
+    return *this;
+}
+
+EglContext::~EglContext() { destroy(); }
+
+void EglContext::destroy()
+{
+    if (context_ == EGL_NO_CONTEXT)
+        return;
+    if (eglGetCurrentContext() == context_)
+        eglMakeCurrent(display_->handle(), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display_->handle(), context_);
+    context_ = EGL_NO_CONTEXT;
+}
+
+void EglContext::makeCurrent() const
+{
+    if (eglGetCurrentContext() == context_)
+        return;
+    if (!eglMakeCurrent(display_->handle(), EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+        throw RuntimeError("cannot make the OpenGL ES context current: " + eglErrorName(eglGetError()));
+}
+
+} // namespace lumar

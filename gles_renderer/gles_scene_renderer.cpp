@@ -1,0 +1,156 @@
+// SceneRenderer on a surfaceless EGL context: background pass, mesh pass, readback.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "gles_renderer/background_pass.h"
+#include "gles_renderer/camera_projection.h"
+#include "gles_renderer/egl_context.h"
+#include "gles_renderer/environment_lighting.h"
+#include "gles_renderer/frame_readback.h"
+#include "gles_renderer/gl_check.h"
+#include "gles_renderer/gpu_model.h"
+#include "gles_renderer/gpu_texture.h"
+#include "gles_renderer/mesh_pass.h"
+#include "gles_renderer/render_target.h"
+#include "gles_renderer/scene_renderer.h"
+
+namespace lumar {
+namespace {
+
+std::string glString(GLenum name)
+{
+    const auto* text = reinterpret_cast<const char*>(glGetString(name));
+    return text ? text : "(unknown)";
+}
+
+// Makes the context current and logs what it runs on; returns it for member initialisation.
+EglContext makeContext()
+{
+    EglContext context(EglDisplay::surfaceless());
+    LUMAR_LOG(Render, Info) << "GLES: " << glString(GL_VERSION) << ", renderer " << glString(GL_RENDERER)
+                            << ", vendor " << glString(GL_VENDOR);
+    return context;
+}
+
+void checkIntrinsics(const CameraIntrinsics& k, int width, int height)
+{
+    if (k.width != width || k.height != height)
+        throw InputError("camera intrinsics are for " + std::to_string(k.width) + "x" + std::to_string(k.height) +
+                         " but the renderer draws " + std::to_string(width) + "x" + std::to_string(height));
+    if (!(std::isfinite(k.fx) && std::isfinite(k.fy) && k.fx > 0 && k.fy > 0 && std::isfinite(k.cx) &&
+          std::isfinite(k.cy)))
+        throw InputError("camera intrinsics need finite fx, fy > 0 and a finite principal point");
+}
+
+class GlesSceneRenderer final : public SceneRenderer {
+public:
+    GlesSceneRenderer(int width, int height, const RenderOptions& options)
+        : context_(makeContext()), width_(width), height_(height), target_(width, height, options.samples),
+          defaults_{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)},
+          readback_(target_.readFramebuffer(), width, height)
+    {
+        checkGlError("creating the scene renderer");
+        LUMAR_LOG(Render, Info) << "rendering " << width << "x" << height << ", " << target_.samples()
+                                << " sample(s) per pixel";
+    }
+
+    GlesSceneRenderer(const GlesSceneRenderer&) = delete;
+    GlesSceneRenderer& operator=(const GlesSceneRenderer&) = delete;
+
+    ~GlesSceneRenderer() override
+    {
+        // The GL objects below are deleted by their owners' destructors, which need this
+        // context current (another renderer's may be).
+        try {
+            context_.makeCurrent();
+        } catch (const RuntimeError& e) {
+            LUMAR_LOG(Render, Warn) << "GL objects leak with their context: " << e.what();
+        }
+    }
+
+    ModelId addModel(const GltfModel& model) override
+    {
+        context_.makeCurrent();
+        models_.push_back(uploadModel(model, defaults_));
+        LUMAR_LOG(Render, Debug) << "uploaded " << model.file.string() << " as model " << models_.size() - 1;
+        return ModelId(models_.size() - 1);
+    }
+
+    void removeModels() override
+    {
+        context_.makeCurrent();
+        models_.clear();
+    }
+
+    void setEnvironment(const ImageF& equirect, float intensity) override
+    {
+        context_.makeCurrent();
+        environment_.set(equirect, intensity);
+    }
+
+    void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) override
+    {
+        environment_.setRotation(environmentFromCamera);
+    }
+
+    void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
+                std::span<const DrawItem> items) override
+    {
+        checkIntrinsics(intrinsics, width_, height_);
+        for (const DrawItem& item : items)
+            if (item.model < 0 || size_t(item.model) >= models_.size())
+                throw InputError("draw item refers to model " + std::to_string(item.model) + " but the renderer has " +
+                                 std::to_string(models_.size()));
+        context_.makeCurrent();
+
+        target_.bindForDrawing();
+        glDepthMask(GL_TRUE);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        background_.draw(backgroundRgb);
+
+        frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
+        environment_.fillUniforms(frame_);
+        meshes_.draw(frame_, environment_.specularMap(), models_, items);
+        target_.finishFrame();
+    }
+
+    void readback(Image8& rgb) override
+    {
+        context_.makeCurrent();
+        readback_.read(rgb);
+    }
+
+    [[nodiscard]] int width() const override { return width_; }
+    [[nodiscard]] int height() const override { return height_; }
+
+private:
+    // Declared first so it is destroyed last: every GL object below needs it.
+    EglContext context_;
+    int width_;
+    int height_;
+    RenderTarget target_;
+    BackgroundPass background_{width_, height_};
+    MeshPass meshes_;
+    DefaultTextures defaults_;
+    EnvironmentLighting environment_;
+    FrameReadback readback_;
+    std::vector<GpuModel> models_;
+    FrameUniforms frame_;
+};
+
+} // namespace
+
+std::unique_ptr<SceneRenderer> SceneRenderer::create(int width, int height)
+{
+    return create(width, height, RenderOptions{});
+}
+
+std::unique_ptr<SceneRenderer> SceneRenderer::create(int width, int height, const RenderOptions& options)
+{
+    return std::make_unique<GlesSceneRenderer>(width, height, options);
+}
+
+} // namespace lumar

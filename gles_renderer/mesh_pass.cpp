@@ -1,0 +1,120 @@
+#include "gles_renderer/mesh_pass.h"
+
+#include <array>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gles_renderer/gl_check.h"
+#include "gles_renderer/shader_program.h"
+
+namespace lumar {
+namespace {
+
+// Skips GL calls that would not change state: llvmpipe validates state on every change.
+class StateCache {
+public:
+    void setCulling(bool enabled)
+    {
+        if (culling_ == int(enabled))
+            return;
+        culling_ = int(enabled);
+        if (enabled)
+            glEnable(GL_CULL_FACE);
+        else
+            glDisable(GL_CULL_FACE);
+    }
+    void setFrontFace(GLenum mode)
+    {
+        if (frontFace_ != mode)
+            glFrontFace(mode);
+        frontFace_ = mode;
+    }
+    void bindTexture(GLuint unit, GLuint texture)
+    {
+        if (textures_[unit] == texture)
+            return;
+        textures_[unit] = texture;
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(GL_TEXTURE_2D, texture);
+    }
+    void bindMaterial(const GpuMaterial* material)
+    {
+        if (material_ == material)
+            return;
+        material_ = material;
+        glBindBufferBase(GL_UNIFORM_BUFFER, kMaterialBlockBinding, material->uniforms.name());
+        bindTexture(MeshPass::kBaseColorUnit, material->baseColor);
+        bindTexture(MeshPass::kMetallicRoughnessUnit, material->metallicRoughness);
+        bindTexture(MeshPass::kNormalUnit, material->normal);
+        bindTexture(MeshPass::kEmissiveUnit, material->emissive);
+        setCulling(!material->doubleSided);
+    }
+
+private:
+    int culling_ = -1;  // unknown at the start of a pass
+    GLenum frontFace_ = 0;
+    std::array<GLuint, 8> textures_{};
+    const GpuMaterial* material_ = nullptr;
+};
+
+} // namespace
+
+MeshPass::MeshPass()
+    : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
+      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), frameUniforms_(GlBuffer::create())
+{
+    glUseProgram(program_.name());
+    glUniform1i(uniformLocation(program_, "uBaseColor"), GLint(kBaseColorUnit));
+    glUniform1i(uniformLocation(program_, "uMetallicRoughness"), GLint(kMetallicRoughnessUnit));
+    glUniform1i(uniformLocation(program_, "uNormal"), GLint(kNormalUnit));
+    glUniform1i(uniformLocation(program_, "uEmissive"), GLint(kEmissiveUnit));
+    glUniform1i(uniformLocation(program_, "uEnvironment"), GLint(kEnvironmentUnit));
+    bindUniformBlock(program_, "Frame", kFrameBlockBinding);
+    bindUniformBlock(program_, "Material", kMaterialBlockBinding);
+
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
+    checkGlError("creating the mesh pass");
+}
+
+void MeshPass::draw(const FrameUniforms& frame, GLuint environmentMap, const std::vector<GpuModel>& models,
+                    std::span<const DrawItem> items) const
+{
+    if (items.empty())
+        return;
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+
+    glUseProgram(program_.name());
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    StateCache state;
+    state.bindTexture(kEnvironmentUnit, environmentMap);
+
+    for (const DrawItem& item : items) {
+        const GpuModel& model = models[size_t(item.model)];
+        for (const GpuPrimitive& primitive : model.primitives) {
+            // Composed in double precision: model matrices may carry large translations.
+            const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+            const glm::dmat3 linear(cameraFromMesh);
+            const double determinant = glm::determinant(linear);
+            if (determinant == 0.0 || !std::isfinite(determinant))
+                continue;  // flattened to nothing: invisible
+            // A mirroring transform turns the winding around (see clipFromCamera for CW).
+            state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+            const glm::mat4 cameraFromMeshF(cameraFromMesh);
+            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+            glUniformMatrix4fv(cameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+            glUniformMatrix3fv(normalFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+            state.bindMaterial(&model.materials[primitive.material]);
+            glBindVertexArray(primitive.vertexArray.name());
+            glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+        }
+    }
+    glBindVertexArray(0);
+}
+
+} // namespace lumar

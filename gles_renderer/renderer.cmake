@@ -1,0 +1,18 @@
+# lumar_render: the GLES 3 pipeline on a surfaceless EGL context (EGL setup, GL RAII wrappers,
+# shader programs, the background and mesh passes, the scene renderer behind scene_renderer.h).
+add_library(lumar_render STATIC
+  "${CMAKE_CURRENT_LIST_DIR}/background_pass.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/camera_projection.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/egl_context.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/environment_lighting.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/frame_readback.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/gl_check.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/gles_scene_renderer.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/gpu_model.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/gpu_texture.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/mesh_pass.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/render_target.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/shader_program.cpp")
+target_link_libraries(lumar_render
+  PUBLIC lumar_core lumar_assets
+  PRIVATE lumar_shaders PkgConfig::EGL PkgConfig::GLESV2 lumar_build_flags)

@@ -1,0 +1,34 @@
+#version 300 es
+// A glTF primitive moved into the OpenCV camera frame (x right, y down, z forward), where
+// mesh.frag shades it, and on to clip space.
+
+layout(std140) uniform Frame {
+    mat4 clipFromCamera;
+    mat3 environmentFromCamera;
+    vec4 irradianceSH[9];
+    vec4 environmentParams;
+};
+
+uniform mat4 uCameraFromMesh;
+// Inverse transpose of uCameraFromMesh's 3x3 part (normals under non-uniform scale).
+uniform mat3 uNormalFromMesh;
+
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aUv;
+layout(location = 3) in vec4 aTangent;
+
+out vec3 vPosition;
+out vec3 vNormal;
+out vec4 vTangent;
+out vec2 vUv;
+
+void main()
+{
+    vec4 position = uCameraFromMesh * vec4(aPosition, 1.0);
+    vPosition = position.xyz;
+    vNormal = uNormalFromMesh * aNormal;
+    vTangent = vec4(mat3(uCameraFromMesh) * aTangent.xyz, aTangent.w);
+    vUv = aUv;
+    gl_Position = clipFromCamera * position;
+}

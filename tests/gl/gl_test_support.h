@@ -1,0 +1,156 @@
+// Helpers shared by the GL tests: renderer creation that skips where no EGL exists, small
+// in-code models, and the published formulas the shading tests compare against.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+#include <gtest/gtest.h>
+
+#include "core/camera_model.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "gles_renderer/gltf_model.h"
+#include "gles_renderer/scene_renderer.h"
+
+namespace lumar::test {
+
+// The renderer, or the reason there is none (a machine without EGL/GLES 3: the caller skips).
+struct RendererOrReason {
+    std::unique_ptr<SceneRenderer> renderer;
+    std::string reason;
+};
+
+inline RendererOrReason tryCreateRenderer(int width, int height, RenderOptions options = {})
+{
+    try {
+        return {SceneRenderer::create(width, height, options), {}};
+    } catch (const RuntimeError& e) {
+        return {nullptr, e.what()};
+    }
+}
+
+#define LUMAR_RENDERER_OR_SKIP(variable, ...)                                                       \
+    auto variable##OrReason = ::lumar::test::tryCreateRenderer(__VA_ARGS__);                        \
+    if (!variable##OrReason.renderer)                                                               \
+        GTEST_SKIP() << "no GLES 3 renderer: " << variable##OrReason.reason;                        \
+    SceneRenderer& variable = *variable##OrReason.renderer
+
+inline CameraIntrinsics makeIntrinsics(int width, int height, double fx, double fy, double cx, double cy)
+{
+    CameraIntrinsics k;
+    k.width = width;
+    k.height = height;
+    k.fx = fx;
+    k.fy = fy;
+    k.cx = cx;
+    k.cy = cy;
+    return k;
+}
+
+inline Image8 solidImage(int width, int height, uint8_t r, uint8_t g, uint8_t b)
+{
+    Image8 image(width, height, 3);
+    for (size_t i = 0; i < image.data.size(); i += 3) {
+        image.data[i] = r;
+        image.data[i + 1] = g;
+        image.data[i + 2] = b;
+    }
+    return image;
+}
+
+inline ImageF uniformEnvironment(float radiance)
+{
+    ImageF image(16, 8, 3);
+    std::fill(image.data.begin(), image.data.end(), radiance);
+    return image;
+}
+
+// A material that only glows: black base colour, so with a black environment the pixels
+// show exactly the tone-mapped emission.
+inline GltfMaterial emissiveMaterial(const glm::vec3& emission)
+{
+    GltfMaterial m;
+    m.baseColorFactor = glm::vec4(0, 0, 0, 1);
+    m.metallicFactor = 0.0f;
+    m.emissiveFactor = emission;
+    return m;
+}
+
+// A one-primitive model: the quad c0 c1 c2 c3, whose front side is the one it is
+// counter-clockwise from (normal = (c1 - c0) x (c2 - c0)).
+inline GltfModel makeQuad(const std::array<glm::vec3, 4>& c, const GltfMaterial& material)
+{
+    GltfModel model;
+    GltfPrimitive p;
+    p.positions = {c[0], c[1], c[2], c[3]};
+    const glm::vec3 normal = glm::normalize(glm::cross(c[1] - c[0], c[2] - c[0]));
+    p.normals.assign(4, normal);
+    p.uvs = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
+    p.tangents.assign(4, glm::vec4(glm::normalize(c[3] - c[0]), 1.0f));
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.material = 0;
+    model.primitives.push_back(p);
+    model.materials.push_back(material);
+    model.boundsMin = glm::min(glm::min(c[0], c[1]), glm::min(c[2], c[3]));
+    model.boundsMax = glm::max(glm::max(c[0], c[1]), glm::max(c[2], c[3]));
+    return model;
+}
+
+// An axis-aligned rectangle in the plane z = 0 of its model frame, facing -z (towards a
+// camera looking along +z when cameraFromModel has no rotation). In the OpenCV frame (y
+// down) the corners run top-left, bottom-left, bottom-right, top-right: counter-clockwise
+// as the camera sees them.
+inline GltfModel cameraFacingRectangle(float x0, float y0, float x1, float y1, const GltfMaterial& material)
+{
+    return makeQuad({glm::vec3(x0, y0, 0), glm::vec3(x0, y1, 0), glm::vec3(x1, y1, 0), glm::vec3(x1, y0, 0)},
+                    material);
+}
+
+inline glm::dmat4 translation(double x, double y, double z)
+{
+    glm::dmat4 m(1.0);
+    m[3] = glm::dvec4(x, y, z, 1.0);
+    return m;
+}
+
+// Published formulas, written out here independently of the shaders.
+
+// Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
+inline double acesFilmic(double x)
+{
+    return std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+// IEC 61966-2-1 sRGB encoding.
+inline double srgbEncode(double linear)
+{
+    return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+inline double srgbDecode(double encoded)
+{
+    return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+// The 8-bit code value the renderer should write for linear radiance `radiance`.
+inline int toneMappedCode(double radiance) { return int(std::lround(255.0 * srgbEncode(acesFilmic(radiance)))); }
+
+// Karis 2014, "Physically Based Shading on Mobile": the environment BRDF's scale and bias
+// for F0, as a function of roughness and n.v.
+inline glm::dvec2 karisEnvironmentBrdf(double roughness, double nDotV)
+{
+    const glm::dvec4 c0(-1.0, -0.0275, -0.572, 0.022);
+    const glm::dvec4 c1(1.0, 0.0425, 1.04, -0.04);
+    const glm::dvec4 r = roughness * c0 + c1;
+    const double a004 = std::min(r.x * r.x, std::exp2(-9.28 * nDotV)) * r.x + r.y;
+    return glm::dvec2(-1.04, 1.04) * a004 + glm::dvec2(r.z, r.w);
+}
+
+} // namespace lumar::test
