@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "capture/prefetching_source.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "gles_renderer/environment_map.h"
@@ -53,7 +54,7 @@ ImageF neutralEnvironment()
 
 Pipeline::Pipeline(const Config& config) : config_(config)
 {
-    capture_ = openCaptureSource(config_.camera);
+    capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(config_.camera));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = std::make_unique<TagTracker>(config_.tracking, intrinsics_, tagSizesFor(config_));
 

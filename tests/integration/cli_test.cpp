@@ -121,6 +121,21 @@ TEST_F(RenderBadInput, CorruptHdr)
     expectBadInput(r, "broken.hdr");
 }
 
+// Without a usable EGL/GLES 3 the renderer cannot start: a runtime failure (exit 1) with one
+// clear line, not a crash. Mesa is made to fail in two places: no EGL vendor (libglvnd finds
+// no Mesa), and no driver behind the surfaceless display.
+TEST(Cli, NoEglIsAClearRuntimeError)
+{
+    const auto dir = test::scratchDirectory("no-egl");
+    for (const char* environment : {"__EGL_VENDOR_LIBRARY_DIRS=/nonexistent", "LIBGL_DRIVERS_PATH=/nonexistent"}) {
+        const auto r = runLumar({"render", "--frames", "1", "--out", (dir / "out.png").string()}, dir, {environment});
+        EXPECT_EQ(r.exitCode, 1) << environment << "\n" << r.err;
+        EXPECT_NE(r.err.find("lumar: "), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("EGL"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+    }
+}
+
 TEST(Cli, DetectPrintsOneJsonObjectPerImage)
 {
     const auto dir = test::scratchDirectory("detect");

@@ -34,11 +34,16 @@ inline std::string shellQuote(const std::string& s)
     return q + "'";
 }
 
-// `args` are passed to lumar quoted one by one.
-inline ProcessResult runLumar(const std::vector<std::string>& args, const std::filesystem::path& workDir)
+// `args` are passed to lumar quoted one by one; `environment` ("NAME=value" items) is set
+// for this run only.
+inline ProcessResult runLumar(const std::vector<std::string>& args, const std::filesystem::path& workDir,
+                              const std::vector<std::string>& environment = {})
 {
     const auto outFile = workDir / "stdout.txt", errFile = workDir / "stderr.txt";
-    std::string command = shellQuote(LUMAR_BINARY);
+    std::string command = "env";
+    for (const std::string& e : environment)
+        command += " " + shellQuote(e);
+    command += " " + shellQuote(LUMAR_BINARY);
     for (const std::string& a : args)
         command += " " + shellQuote(a);
     command += " >" + shellQuote(outFile) + " 2>" + shellQuote(errFile) + " </dev/null";
