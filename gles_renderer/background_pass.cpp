@@ -8,10 +8,14 @@
 
 namespace lumar {
 
-BackgroundPass::BackgroundPass(int width, int height)
-    : width_(width), height_(height), program_(linkProgram(kBackgroundProgram)), texture_(GlTexture::create()),
-      emptyVertexArray_(GlVertexArray::create())
+BackgroundPass::BackgroundPass(const RenderTarget& target)
+    : width_(target.width()), height_(target.height()), targetTexture_(target.colourTexture())
 {
+    if (targetTexture_ != 0)
+        return;
+    program_ = linkProgram(kBackgroundProgram);
+    texture_ = GlTexture::create();
+    emptyVertexArray_ = GlVertexArray::create();
     glUseProgram(program_.name());
     glUniform1i(uniformLocation(program_, "uCamera"), GLint(kTextureUnit));
 
@@ -23,6 +27,16 @@ BackgroundPass::BackgroundPass(int width, int height)
     checkGlError("creating the background pass");
 }
 
+void BackgroundPass::upload(GLuint texture, const Image8& rgb) const
+{
+    glActiveTexture(GL_TEXTURE0 + kTextureUnit);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    // Rows of 3-byte pixels are tightly packed, not 4-byte aligned. Image row y goes to
+    // texture row y, which the target keeps as image row y (see clipFromCamera).
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data.data());
+}
+
 void BackgroundPass::draw(const Image8& rgb) const
 {
     if (rgb.width != width_ || rgb.height != height_ || rgb.channels != 3 ||
@@ -31,12 +45,14 @@ void BackgroundPass::draw(const Image8& rgb) const
                          std::to_string(rgb.channels) + ", the renderer needs " + std::to_string(width_) + "x" +
                          std::to_string(height_) + "x3");
     }
-    glActiveTexture(GL_TEXTURE0 + kTextureUnit);
-    glBindTexture(GL_TEXTURE_2D, texture_.name());
-    // Rows of 3-byte pixels are tightly packed, not 4-byte aligned.
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data.data());
-
+    if (targetTexture_ != 0) {
+        // Straight into the framebuffer's own texture: the copy is exact by construction and
+        // costs no fragment work.
+        upload(targetTexture_, rgb);
+        glBindTexture(GL_TEXTURE_2D, 0);  // never leave the render target bound for sampling
+        return;
+    }
+    upload(texture_.name(), rgb);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glUseProgram(program_.name());

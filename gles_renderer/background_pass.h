@@ -1,8 +1,11 @@
-// Pass 1 of a frame: the camera image copied into the whole framebuffer, bit-exact.
+// Pass 1 of a frame: the camera image copied into the whole framebuffer, bit-exact. A
+// single-sampled target gets it uploaded straight into its colour texture (no draw at all);
+// a multisampled one gets it drawn by a fullscreen triangle from a persistent texture.
 #pragma once
 
 #include "core/image.h"
 #include "gles_renderer/gl_object.h"
+#include "gles_renderer/render_target.h"
 
 namespace lumar {
 
@@ -11,16 +14,20 @@ public:
     // The texture unit the camera image is bound to while drawing.
     static constexpr GLuint kTextureUnit = 5;
 
-    BackgroundPass(int width, int height);
+    // `target` must outlive the pass.
+    explicit BackgroundPass(const RenderTarget& target);
 
-    // Uploads `rgb` (3 channels, the pass' size, row 0 at the top) into the persistent
-    // texture and draws it over the bound framebuffer with depth testing off. Throws
-    // InputError when the image's shape differs.
+    // Puts `rgb` (3 channels, the target's size, row 0 at the top) into every pixel of the
+    // target, which must be bound for drawing. Throws InputError when the shape differs.
     void draw(const Image8& rgb) const;
 
 private:
+    void upload(GLuint texture, const Image8& rgb) const;
+
     int width_;
     int height_;
+    GLuint targetTexture_;  // the target's colour texture; 0 when multisampled
+    // Only for multisampled targets:
     GlProgram program_;
     GlTexture texture_;
     GlVertexArray emptyVertexArray_;  // GLES 3 draws need a bound vertex array

@@ -115,6 +115,9 @@ public:
         environment_.fillUniforms(frame_);
         meshes_.draw(frame_, environment_.specularMap(), models_, items);
         target_.finishFrame();
+        // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
+        // before readback() overlaps with it.
+        glFlush();
     }
 
     void readback(Image8& rgb) override
@@ -132,7 +135,7 @@ private:
     int width_;
     int height_;
     RenderTarget target_;
-    BackgroundPass background_{width_, height_};
+    BackgroundPass background_{target_};
     MeshPass meshes_;
     DefaultTextures defaults_;
     EnvironmentLighting environment_;

@@ -38,11 +38,18 @@ RenderTarget::RenderTarget(int width, int height, int samples) : width_(width), 
     if (samples_ < 1)
         samples_ = 1;
 
-    colour_ = makeRenderbuffer(GL_RGBA8, width, height, samples_);
     depth_ = makeRenderbuffer(GL_DEPTH_COMPONENT24, width, height, samples_);
     drawFramebuffer_ = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, drawFramebuffer_.name());
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_.name());
+    if (samples_ > 1) {
+        colour_ = makeRenderbuffer(GL_RGBA8, width, height, samples_);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_.name());
+    } else {
+        colourTexture_ = GlTexture::create();
+        glBindTexture(GL_TEXTURE_2D, colourTexture_.name());
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB8, width, height);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colourTexture_.name(), 0);
+    }
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.name());
     checkFramebufferComplete("render target");
 

@@ -1,5 +1,6 @@
-// The offscreen framebuffer the scene is drawn into: RGBA8 colour + 24-bit depth, optionally
-// multisampled with a blit resolve into a single-sampled framebuffer for readback.
+// The offscreen framebuffer the scene is drawn into: 8-bit colour + 24-bit depth. Single-
+// sampled, the colour is an RGB8 texture the camera image can be uploaded into directly;
+// multisampled, RGBA8 renderbuffers resolved by a blit into a single-sampled one for readback.
 #pragma once
 
 #include "gles_renderer/gl_object.h"
@@ -19,6 +20,8 @@ public:
     void finishFrame() const;
     // The single-sampled framebuffer holding the finished frame.
     [[nodiscard]] GLuint readFramebuffer() const;
+    // The RGB8 colour texture drawn into, or 0 when multisampled.
+    [[nodiscard]] GLuint colourTexture() const { return colourTexture_.name(); }
 
     [[nodiscard]] int width() const { return width_; }
     [[nodiscard]] int height() const { return height_; }
@@ -28,7 +31,8 @@ private:
     int width_;
     int height_;
     int samples_;
-    GlRenderbuffer colour_;
+    GlTexture colourTexture_;  // single-sampled
+    GlRenderbuffer colour_;    // multisampled
     GlRenderbuffer depth_;
     GlFramebuffer drawFramebuffer_;
     // Only when multisampled.
