@@ -24,7 +24,7 @@ struct DrawItem {
 
 struct RenderOptions {
     // Multisample anti-aliasing samples per pixel (1 = off). Off by default: on llvmpipe
-    // 4x multiplies the frame time (see the renderer's README/report figures).
+    // with 2 cores, 4x took the demo truck at 1280x720 from 10.5 to 28 ms per frame.
     int samples = 1;
 };
 

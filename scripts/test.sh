@@ -3,14 +3,23 @@
 # through ctest. With --sanitize it builds into build-asan/ with ASan and UBSan instead.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
+jobs=$(nproc 2>/dev/null || echo 2)
 bash "$top/scripts/install-deps.sh"
-if [ "${1:-}" = "--sanitize" ]; then
-  export LUMAR_BUILD_DIR=$top/build-asan
-  bash "$top/scripts/build.sh" -DLUMAR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
-  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-else
+
+if [ "${1:-}" != "--sanitize" ]; then
   export LUMAR_BUILD_DIR=$top/build
   bash "$top/scripts/build.sh"
+  cd "$LUMAR_BUILD_DIR"
+  ctest --output-on-failure -j "$jobs"
+  exit 0
 fi
+
+export LUMAR_BUILD_DIR=$top/build-asan
+bash "$top/scripts/build.sh" -DLUMAR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
 cd "$LUMAR_BUILD_DIR"
-ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)"
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# Leak checking everywhere except where Mesa runs: its llvmpipe driver is dlclose()d at
+# eglTerminate with allocations LeakSanitizer then reports from an "<unknown module>" that no
+# suppression can name. Address and UB checks stay on for those tests.
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure -j "$jobs" -LE 'gl|integration'
+ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 ctest --output-on-failure -j "$jobs" -L 'gl|integration'
