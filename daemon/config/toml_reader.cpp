@@ -1,7 +1,11 @@
 #include "toml_reader.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
+
+#include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
 
@@ -146,40 +150,36 @@ void TableReader::oneOf(std::string_view key, std::string& out, std::initializer
     fail(table_.get(key), key, "'" + value + "' is not one of " + list);
 }
 
-void TableReader::vec2(std::string_view key, glm::dvec2& out, double limit)
+void TableReader::numbers(std::string_view key, double* out, int count, double limit)
 {
     const toml::node* node = find(key);
     if (!node)
         return;
+    const std::string expected = "expected an array of " + std::to_string(count) + " numbers" +
+                                 (std::isfinite(limit) ? " within [-" + formatNumber(limit) + ", " +
+                                                             formatNumber(limit) + "]"
+                                                       : std::string());
     const auto* array = node->as_array();
-    if (!array || array->size() != 2)
-        fail(node, key, "expected an array of 2 numbers");
-    glm::dvec2 value;
-    for (int i = 0; i < 2; ++i) {
+    if (!array || array->size() != size_t(count))
+        fail(node, key, expected);
+    double values[4] = {};
+    for (int i = 0; i < count; ++i) {
         const auto v = (*array)[size_t(i)].value<double>();
         if (!v || !std::isfinite(*v) || std::abs(*v) > limit)
-            fail(node, key, "expected 2 numbers within [-" + formatNumber(limit) + ", " + formatNumber(limit) + "]");
-        value[i] = *v;
+            fail(node, key, expected);
+        values[i] = *v;
     }
-    out = value;
+    std::copy(values, values + count, out);
+}
+
+void TableReader::vec2(std::string_view key, glm::dvec2& out, double limit)
+{
+    numbers(key, glm::value_ptr(out), 2, limit);
 }
 
 void TableReader::vec3(std::string_view key, glm::dvec3& out)
 {
-    const toml::node* node = find(key);
-    if (!node)
-        return;
-    const auto* array = node->as_array();
-    if (!array || array->size() != 3)
-        fail(node, key, "expected an array of 3 numbers");
-    glm::dvec3 value;
-    for (int i = 0; i < 3; ++i) {
-        const auto v = (*array)[size_t(i)].value<double>();
-        if (!v || !std::isfinite(*v))
-            fail(node, key, "expected an array of 3 numbers");
-        value[i] = *v;
-    }
-    out = value;
+    numbers(key, glm::value_ptr(out), 3, std::numeric_limits<double>::infinity());
 }
 
 void TableReader::path(std::string_view key, std::filesystem::path& out, const std::filesystem::path& baseDir,

@@ -50,6 +50,8 @@ public:
 
 private:
     const toml::node* find(std::string_view key);
+    // Reads an array of exactly `count` (<= 4) finite numbers within [-limit, limit].
+    void numbers(std::string_view key, double* out, int count, double limit);
 
     const toml::table& table_;
     std::string keyPath_;
