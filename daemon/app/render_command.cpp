@@ -47,6 +47,7 @@ int renderCommand(const Args& args)
     const Config config = configFromCommandLine(cl);
     Pipeline pipeline(config);
     std::vector<std::unique_ptr<FrameWriter>> writers;
+    writers.reserve(outputs.size());
     for (const std::string& out : outputs)
         writers.push_back(NumberedPngWriter::isPattern(out) ? std::make_unique<NumberedPngWriter>(out)
                                                              : openFrameWriter(out, pipeline.fps()));

@@ -80,7 +80,7 @@ std::filesystem::path assetDirectory()
     std::error_code ec;
     const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) {
-        const auto installed = exe.parent_path().parent_path() / "share" / "lumar";
+        auto installed = exe.parent_path().parent_path() / "share" / "lumar";
         if (isDirectory(installed))
             return installed;
     }
