@@ -1,20 +1,24 @@
 // lumar run: the daemon loop. Frames are processed as the camera delivers them (file and fake
 // sources are paced to their frame rate), the headless sink keeps the output file current,
 // and SIGINT/SIGTERM stop the loop cleanly after the frame in flight.
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
 #include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
+#include "config_watcher.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "output/frame_writer.h"
 #include "pipeline.h"
+#include "service_notifier.h"
 
 namespace lumar {
 namespace {
@@ -24,37 +28,47 @@ constexpr const char* kHelp = R"(usage: lumar run [--config FILE] [--frames N] [
 Runs the AR pipeline continuously until SIGINT or SIGTERM (or N frames when --frames is
 given). The output goes to the configured sink: [output] path = "x.png" keeps a still of
 the newest frame (rewritten once a second, atomically), "x.y4m" records every frame.
+
+The configuration file is reloaded when it changes on disk (editors and mv included) or on
+SIGHUP; a file with an error is rejected with its FILE:LINE message and the last good
+configuration keeps running. Under systemd (Type=notify) it reports READY=1 after the first
+frame, WATCHDOG=1 while frames flow, and STATUS= with fps and tracking state.
 )";
 
 std::atomic<bool> gStopRequested{false};
+std::atomic<bool> gReloadRequested{false};
 
-extern "C" void requestStop(int /*signal*/)
+extern "C" void onSignal(int signal)
 {
-    gStopRequested.store(true);
+    if (signal == SIGHUP)
+        gReloadRequested.store(true);
+    else
+        gStopRequested.store(true);
 }
 
-// Installs the stop handlers for the lifetime of the loop and restores the old ones after.
-class StopSignals {
+// Installs the stop and reload handlers for the lifetime of the loop and restores the old
+// ones after.
+class LoopSignals {
 public:
-    StopSignals()
+    LoopSignals()
     {
         struct sigaction action {};
-        action.sa_handler = requestStop;
+        action.sa_handler = onSignal;
         sigemptyset(&action.sa_mask);
-        sigaction(SIGINT, &action, &oldInt_);
-        sigaction(SIGTERM, &action, &oldTerm_);
+        for (size_t i = 0; i < kSignals.size(); ++i)
+            sigaction(kSignals[i], &action, &old_[i]);
     }
-    ~StopSignals()
+    ~LoopSignals()
     {
-        sigaction(SIGINT, &oldInt_, nullptr);
-        sigaction(SIGTERM, &oldTerm_, nullptr);
+        for (size_t i = 0; i < kSignals.size(); ++i)
+            sigaction(kSignals[i], &old_[i], nullptr);
     }
-    StopSignals(const StopSignals&) = delete;
-    StopSignals& operator=(const StopSignals&) = delete;
+    LoopSignals(const LoopSignals&) = delete;
+    LoopSignals& operator=(const LoopSignals&) = delete;
 
 private:
-    struct sigaction oldInt_ {};
-    struct sigaction oldTerm_ {};
+    static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
+    std::array<struct sigaction, 3> old_{};
 };
 
 // The headless sink of `run`: a still refreshed periodically, or a video of every frame.
@@ -93,6 +107,40 @@ private:
     std::chrono::steady_clock::time_point nextStill_{};
 };
 
+// Everything a configuration builds; replaced as a whole when a new one is accepted.
+struct RunningScene {
+    std::unique_ptr<Pipeline> pipeline;
+    std::unique_ptr<HeadlessSink> sink;
+
+    explicit RunningScene(const Config& config)
+        : pipeline(std::make_unique<Pipeline>(config)),
+          sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps()))
+    {
+    }
+};
+
+// Parse → validate → build, all before anything running is touched: a bad file (or a model
+// it names) leaves the current scene running. Returns false when the new file was rejected.
+bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& scene, ServiceNotifier& notifier)
+{
+    notifier.reloading();
+    try {
+        const Config config = loadConfig(file);
+        auto next = std::make_unique<RunningScene>(config);
+        scene->sink->finish(scene->pipeline->output());
+        scene = std::move(next);
+        log::configure(config.logLevel);
+        LUMAR_LOG(Config, Info) << "reloaded " << file.string();
+        notifier.ready();
+        return true;
+    } catch (const InputError& e) {
+        LUMAR_LOG(Config, Error) << "configuration rejected, keeping the last good one: " << e.what();
+        notifier.status(std::string("configuration rejected: ") + e.what());
+        notifier.ready();
+        return false;
+    }
+}
+
 } // namespace
 
 int runCommand(const Args& args)
@@ -107,22 +155,36 @@ int runCommand(const Args& args)
     const long maxFrames = cl.integer("frames", 0, 0, 1L << 40);
 
     const Config config = configFromCommandLine(cl);
-    Pipeline pipeline(config);
-    HeadlessSink sink(config.output, pipeline.fps());
-    StopSignals signals;
+    auto scene = std::make_unique<RunningScene>(config);
+    const auto configFile = cl.value("config");
+    std::optional<ConfigWatcher> watcher;
+    if (configFile)
+        watcher.emplace(*configFile);
+    ServiceNotifier notifier;
+    LoopSignals signals;
     gStopRequested.store(false);
+    gReloadRequested.store(false);
 
     using Clock = std::chrono::steady_clock;
-    const auto frameInterval = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / pipeline.fps()));
-    const auto start = Clock::now();
-    auto nextStatus = start + std::chrono::seconds(5);
+    auto frameInterval = [&] {
+        return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / scene->pipeline->fps()));
+    };
+    auto paceStart = Clock::now();
+    long paceFrames = 0;
+    auto statusStart = paceStart;
     long frames = 0, framesSinceStatus = 0, withMarker = 0;
     FrameReport report;
-    LUMAR_LOG(App, Info) << "running at " << pipeline.fps() << " fps; SIGINT or SIGTERM stops";
+    LUMAR_LOG(App, Info) << "running at " << scene->pipeline->fps() << " fps; SIGINT or SIGTERM stops, SIGHUP reloads";
 
     while (!gStopRequested.load() && (maxFrames == 0 || frames < maxFrames)) {
+        if (configFile && (gReloadRequested.exchange(false) || watcher->changed())) {
+            if (reload(*configFile, scene, notifier)) {
+                paceStart = Clock::now();
+                paceFrames = 0;
+            }
+        }
         try {
-            if (!pipeline.step(report))
+            if (!scene->pipeline->step(report))
                 break;
         } catch (const InputError& e) {
             // A corrupt frame from a file source: report it and keep showing the last good one.
@@ -130,20 +192,26 @@ int runCommand(const Args& args)
             continue;
         }
         ++frames;
+        ++paceFrames;
         ++framesSinceStatus;
         withMarker += report.detections.empty() ? 0 : 1;
         const auto now = Clock::now();
-        sink.present(pipeline.output(), now);
-        if (now >= nextStatus) {
-            const double seconds = std::chrono::duration<double>(now - (nextStatus - std::chrono::seconds(5))).count();
-            LUMAR_LOG(App, Info) << "status: " << framesSinceStatus / seconds << " fps, markers in " << withMarker << "/"
-                                 << frames << " frames";
+        scene->sink->present(scene->pipeline->output(), now);
+        notifier.frameDone(now);
+        if (now - statusStart >= std::chrono::seconds(5)) {
+            const double fps = framesSinceStatus / std::chrono::duration<double>(now - statusStart).count();
+            char line[160];
+            std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", fps,
+                          withMarker, frames, report.objectsDrawn);
+            LUMAR_LOG(App, Info) << "status: " << line;
+            notifier.status(line);
             framesSinceStatus = 0;
-            nextStatus = now + std::chrono::seconds(5);
+            statusStart = now;
         }
-        std::this_thread::sleep_until(start + frames * frameInterval);
+        std::this_thread::sleep_until(paceStart + paceFrames * frameInterval());
     }
-    sink.finish(pipeline.output());
+    notifier.stopping();
+    scene->sink->finish(scene->pipeline->output());
     LUMAR_LOG(App, Info) << "stopped after " << frames << " frames";
     return kExitOk;
 }

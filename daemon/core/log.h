@@ -54,10 +54,12 @@ bool parseLevel(std::string_view text, Level& out);
     inline ::lumar::log::Category Name{#Name};                                                      \
     }
 
+// A one-pass loop rather than if/else, so that `if (x) LUMAR_LOG(...) << y;` has no dangling
+// else, and the stream expression is not evaluated when the level is off.
 #define LUMAR_LOG(Name, Lvl)                                                                        \
-    if (!::lumar::log::categories::Name.enabled(::lumar::log::Level::Lvl)) {                        \
-    } else                                                                                          \
-        ::lumar::log::Line(::lumar::log::categories::Name, ::lumar::log::Level::Lvl).stream()
+    for (bool lumarLogOnce = ::lumar::log::categories::Name.enabled(::lumar::log::Level::Lvl);      \
+         lumarLogOnce; lumarLogOnce = false)                                                         \
+    ::lumar::log::Line(::lumar::log::categories::Name, ::lumar::log::Level::Lvl).stream()
 
 // The categories of the whole program, declared once so every module shares them.
 LUMAR_LOG_CATEGORY(App)

@@ -4,6 +4,8 @@
 #include <fcntl.h>
 #include <fstream>
 #include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <thread>
 
@@ -19,9 +21,17 @@ namespace {
 constexpr int kWidth = 320, kHeight = 240;
 constexpr size_t kY4mFrameBytes = 6 + size_t(kWidth) * kHeight * 3 / 2;  // "FRAME\n" + 4:2:0 planes
 
-// Starts lumar with stdout/stderr redirected to files; returns its pid.
-pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log)
+// Starts lumar with stdout/stderr redirected to a file and `extraEnvironment` ("NAME=value")
+// added; returns its pid.
+pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log,
+                 std::vector<std::string> extraEnvironment = {})
 {
+    std::vector<char*> envp;
+    for (char** e = environ; *e; ++e)
+        envp.push_back(*e);
+    for (auto& e : extraEnvironment)
+        envp.push_back(e.data());
+    envp.push_back(nullptr);
     std::vector<std::string> argv{LUMAR_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
@@ -33,7 +43,7 @@ pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::pa
     posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
     pid_t pid = -1;
-    const int rc = posix_spawn(&pid, LUMAR_BINARY, &actions, nullptr, cargv.data(), environ);
+    const int rc = posix_spawn(&pid, LUMAR_BINARY, &actions, nullptr, cargv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     return rc == 0 ? pid : -1;
 }
@@ -79,6 +89,119 @@ TEST_P(RunCommand, StopsCleanlyOnSignalWithCompleteOutput)
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, RunCommand, ::testing::Values(SIGTERM, SIGINT));
+
+// Replaces a file the way editors do: write a new one beside it, rename it over the old.
+void replaceFile(const std::filesystem::path& file, const std::string& text)
+{
+    const auto partial = file.string() + ".new";
+    std::ofstream(partial) << text;
+    std::filesystem::rename(partial, file);
+}
+
+std::string sceneWritingTo(const std::string& video)
+{
+    return "[camera]\nwidth = " + std::to_string(kWidth) + "\nheight = " + std::to_string(kHeight) +
+           "\n[output]\npath = \"" + video + "\"\n";
+}
+
+bool waitForFrames(const std::filesystem::path& video, size_t frames, std::chrono::seconds limit)
+{
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (fileSize(video) < frames * kY4mFrameBytes) {
+        if (std::chrono::steady_clock::now() > deadline)
+            return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return true;
+}
+
+TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
+{
+    const auto dir = test::scratchDirectory("run-reload");
+    const auto config = dir / "scene.toml";
+    std::ofstream(config) << sceneWritingTo("a.y4m");
+    const pid_t pid = spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    ASSERT_GT(pid, 0);
+    ASSERT_TRUE(waitForFrames(dir / "a.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+
+    // An edit on disk (rename over the file) is picked up by the watch.
+    replaceFile(config, sceneWritingTo("b.y4m"));
+    ASSERT_TRUE(waitForFrames(dir / "b.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+
+    // A broken file is rejected with its line; the running configuration goes on.
+    replaceFile(config, "[camera]\nwidth = \"wide\"\n");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (test::readText(dir / "log.txt").find("configuration rejected") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const std::string log = test::readText(dir / "log.txt");
+    EXPECT_NE(log.find("configuration rejected"), std::string::npos) << log;
+    EXPECT_NE(log.find("scene.toml:2: camera.width"), std::string::npos) << log;
+    const size_t before = fileSize(dir / "b.y4m");
+    EXPECT_TRUE(waitForFrames(dir / "b.y4m", before / kY4mFrameBytes + 3, std::chrono::seconds(30)))
+        << "frames keep flowing after a rejected file";
+
+    // SIGHUP reloads too (the file is rewritten in place first, without an event in between
+    // being required).
+    replaceFile(config, sceneWritingTo("c.y4m"));
+    ::kill(pid, SIGHUP);
+    EXPECT_TRUE(waitForFrames(dir / "c.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+
+    ASSERT_EQ(::kill(pid, SIGTERM), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::readText(dir / "log.txt");
+}
+
+// The systemd notify protocol against a datagram socket standing in for systemd.
+TEST(RunNotify, ReadyAfterTheFirstFrameThenWatchdogAndStatus)
+{
+    const auto dir = test::scratchDirectory("run-notify");
+    const auto socketPath = dir / "notify.sock";
+    const int sock = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    ASSERT_GE(sock, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socketPath.c_str());
+    ASSERT_EQ(::bind(sock, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    timeval timeout{1, 0};
+    ::setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+
+    std::ofstream(dir / "scene.toml") << sceneWritingTo("live.y4m");
+    const pid_t pid = spawnLumar({"run", "--config", (dir / "scene.toml").string()}, dir / "log.txt",
+                                 {"NOTIFY_SOCKET=" + socketPath.string(), "WATCHDOG_USEC=200000"});
+    ASSERT_GT(pid, 0);
+
+    std::vector<std::string> messages;
+    auto has = [&](const std::string& prefix) {
+        for (const auto& m : messages)
+            if (m.rfind(prefix, 0) == 0)
+                return true;
+        return false;
+    };
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!(has("READY=1") && has("STATUS=") && has("WATCHDOG=1")) && std::chrono::steady_clock::now() < deadline) {
+        char buffer[512];
+        const ssize_t n = ::recv(sock, buffer, sizeof buffer - 1, 0);
+        if (n > 0)
+            messages.emplace_back(buffer, size_t(n));
+    }
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ::close(sock);
+
+    ASSERT_TRUE(has("READY=1")) << test::readText(dir / "log.txt");
+    EXPECT_TRUE(has("WATCHDOG=1"));
+    ASSERT_TRUE(has("STATUS="));
+    // READY comes after the first frame exists; the status names the frame rate.
+    EXPECT_GT(fileSize(dir / "live.y4m"), kY4mFrameBytes);
+    for (const auto& m : messages) {
+        if (m.rfind("STATUS=", 0) == 0) {
+            EXPECT_NE(m.find("fps"), std::string::npos) << m;
+        }
+    }
+}
 
 TEST(RunCommandInput, BadConfigExitsTwoWithoutStarting)
 {
