@@ -14,6 +14,7 @@ int renderCommand(const Args& args);
 int runCommand(const Args& args);
 int checkConfigCommand(const Args& args);
 int detectCommand(const Args& args);
+int benchCommand(const Args& args);
 
 // Loads --config FILE if given, else the built-in default, and applies its log level unless
 // --log-level overrides it.

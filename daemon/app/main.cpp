@@ -18,6 +18,7 @@ commands:
   run           the daemon: capture, track and render continuously
   check-config  validate a configuration file
   detect        detect AprilTags in images and print their poses as JSON
+  bench         time the pipeline: fps, frame-time percentiles, per-stage times, memory
 
 Run 'lumar <command> --help' for a command's options.
 Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.
@@ -33,6 +34,7 @@ constexpr Command kCommands[] = {
     {"run", lumar::runCommand},
     {"check-config", lumar::checkConfigCommand},
     {"detect", lumar::detectCommand},
+    {"bench", lumar::benchCommand},
 };
 
 } // namespace

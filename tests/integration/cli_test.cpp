@@ -35,7 +35,7 @@ size_t lineCount(const std::string& s)
 TEST(Cli, HelpForEveryCommand)
 {
     const auto dir = test::scratchDirectory("help");
-    for (const char* command : {"render", "run", "check-config", "detect"}) {
+    for (const char* command : {"render", "run", "check-config", "detect", "bench"}) {
         const auto r = runLumar({command, "--help"}, dir);
         EXPECT_EQ(r.exitCode, 0) << command;
         EXPECT_NE(r.out.find("usage: lumar"), std::string::npos) << command;
@@ -134,6 +134,24 @@ TEST(Cli, NoEglIsAClearRuntimeError)
         EXPECT_NE(r.err.find("EGL"), std::string::npos) << r.err;
         EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
     }
+}
+
+TEST(Cli, BenchPrintsItsJsonReport)
+{
+    const auto dir = test::scratchDirectory("bench");
+    std::ofstream(dir / "scene.toml") << sceneWith(kBox, kHdr);
+    const auto r = runLumar({"bench", "--config", (dir / "scene.toml").string(), "--frames", "3", "--warmup", "1",
+                             "--json", "--log-level", "warn"},
+                            dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["frames"], 3);
+    EXPECT_EQ(j["width"], 320);
+    EXPECT_GT(j["fps"].get<double>(), 0.0);
+    EXPECT_LE(j["frame_ms"]["p50"].get<double>(), j["frame_ms"]["p99"].get<double>());
+    for (const char* stage : {"capture", "detect", "render", "readback"})
+        EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
+    EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
 }
 
 TEST(Cli, DetectPrintsOneJsonObjectPerImage)

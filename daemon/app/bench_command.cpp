@@ -1,0 +1,119 @@
+// lumar bench: runs the pipeline as fast as it goes (no pacing, no output files) and reports
+// frame-time percentiles, mean per-stage times and memory. Timings are measured here, never
+// asserted in tests (DESIGN.md §9).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "command_line.h"
+#include "commands.h"
+#include "config/config.h"
+#include "core/error.h"
+#include "pipeline.h"
+
+namespace lumar {
+namespace {
+
+constexpr const char* kHelp = R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--log-level SPEC]
+
+Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
+whole pipeline without pacing or output, and prints frames per second, frame-time
+percentiles, the mean time of each stage and the resident memory. Capture runs one frame
+ahead on its own thread, so "capture" is the time the pipeline waited for it.
+  --json   one JSON object instead of a table
+)";
+
+double percentile(std::vector<double> values, double p)
+{
+    if (values.empty())
+        return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t index = std::min(values.size() - 1, size_t(p * double(values.size() - 1) + 0.5));
+    return values[index];
+}
+
+double mean(const std::vector<double>& values)
+{
+    double sum = 0;
+    for (double v : values)
+        sum += v;
+    return values.empty() ? 0.0 : sum / double(values.size());
+}
+
+// Resident set size in MiB, from /proc (0 where unavailable).
+double residentMegabytes()
+{
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("VmRSS:", 0) == 0)
+            return std::stod(line.substr(6)) / 1024.0;
+    }
+    return 0.0;
+}
+
+} // namespace
+
+int benchCommand(const Args& args)
+{
+    const CommandLine cl(args, {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"log-level"}});
+    if (cl.helpRequested()) {
+        std::fputs(kHelp, stdout);
+        return kExitOk;
+    }
+    if (!cl.positional().empty())
+        throw UsageError("unexpected argument '" + cl.positional().front() + "'");
+    const long frames = cl.integer("frames", 300, 1, 1000000);
+    const long warmup = cl.integer("warmup", 10, 0, 10000);
+
+    const Config config = configFromCommandLine(cl);
+    Pipeline pipeline(config);
+    FrameReport report;
+    for (long i = 0; i < warmup; ++i)
+        if (!pipeline.step(report))
+            throw InputError("the camera source ended during warm-up");
+
+    std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs;
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs})
+        v->reserve(size_t(frames));
+    long measured = 0;
+    const auto start = std::chrono::steady_clock::now();
+    auto last = start;
+    while (measured < frames && pipeline.step(report)) {
+        const auto now = std::chrono::steady_clock::now();
+        frameMs.push_back(std::chrono::duration<double, std::milli>(now - last).count());
+        last = now;
+        captureMs.push_back(report.times.captureMs);
+        detectMs.push_back(report.times.detectMs);
+        renderMs.push_back(report.times.renderMs);
+        readbackMs.push_back(report.times.readbackMs);
+        ++measured;
+    }
+    const double seconds = std::chrono::duration<double>(last - start).count();
+    const double fps = seconds > 0 ? double(measured) / seconds : 0.0;
+    const int width = pipeline.output().width, height = pipeline.output().height;
+
+    if (cl.has("json")) {
+        std::printf("{\"frames\":%ld,\"width\":%d,\"height\":%d,\"fps\":%.2f,\"frame_ms\":{\"p50\":%.3f,\"p99\":%.3f},"
+                    "\"stages_ms\":{\"capture\":%.3f,\"detect\":%.3f,\"render\":%.3f,\"readback\":%.3f},"
+                    "\"rss_mb\":%.1f}\n",
+                    measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), mean(captureMs),
+                    mean(detectMs), mean(renderMs), mean(readbackMs), residentMegabytes());
+    } else {
+        std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n",
+                    measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99),
+                    residentMegabytes());
+        std::printf("  %-9s %8s %8s %8s\n", "stage", "mean", "p50", "p99");
+        const std::pair<const char*, const std::vector<double>*> stages[] = {
+            {"capture", &captureMs}, {"detect", &detectMs}, {"render", &renderMs}, {"readback", &readbackMs}};
+        for (const auto& [name, values] : stages)
+            std::printf("  %-9s %8.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
+                        percentile(*values, 0.99));
+    }
+    return kExitOk;
+}
+
+} // namespace lumar
