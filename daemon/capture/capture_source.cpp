@@ -2,6 +2,7 @@
 
 #include "capture/fake_camera.h"
 #include "capture/image_folder_source.h"
+#include "capture/v4l2/v4l2_source.h"
 #include "capture/y4m_source.h"
 #include "core/error.h"
 
@@ -18,7 +19,17 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
     if (config.source == "images") {
         return std::make_unique<ImageFolderSource>(config);
     }
-    throw InputError("camera.source: unknown source '" + config.source + "' (expected fake, y4m or images)");
+    if (config.source == "v4l2") {
+        V4l2Options options;
+        options.device = config.device;
+        options.width = config.width;
+        options.height = config.height;
+        options.fps = config.fps;
+        options.bufferCount = config.buffers;
+        options.frameTimeoutMs = config.timeoutMs;
+        return std::make_unique<V4l2Source>(options);
+    }
+    throw InputError("camera.source: unknown source '" + config.source + "' (expected fake, y4m, images or v4l2)");
 }
 
 } // namespace lumar

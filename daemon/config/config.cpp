@@ -52,7 +52,12 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
     if (!table)
         return;
     TableReader r(*table, "camera", ctx.fileName);
-    r.oneOf("source", camera.source, {"fake", "y4m", "images"});
+    r.oneOf("source", camera.source, {"fake", "y4m", "images", "v4l2"});
+    r.string("device", camera.device);
+    if (camera.device.empty())
+        r.fail(r.node("device"), "device", "must not be empty");
+    r.integer("timeout_ms", camera.timeoutMs, 50, 60000);
+    r.integer("buffers", camera.buffers, 2, 32);
     r.integer("width", camera.width, 16, 8192);
     checkEven(r, "width", camera.width);
     r.integer("height", camera.height, 16, 8192);

@@ -21,9 +21,12 @@ struct FakeTagConfig {
 };
 
 struct CameraConfig {
-    std::string source = "fake";         // "fake" | "y4m" | "images"
+    std::string source = "fake";         // "fake" | "y4m" | "images" | "v4l2"
     std::filesystem::path path;           // y4m file or image folder (source y4m/images)
-    int width = 1280;                     // fake source only; file sources take their own size
+    std::string device = "/dev/video0";   // source v4l2: the video device node
+    int timeoutMs = 2000;                 // source v4l2: no frame for this long is an error
+    int buffers = 4;                      // source v4l2: MMAP buffers requested
+    int width = 1280;                     // fake: the size; v4l2: the size requested; files: their own
     int height = 720;
     double fps = 30.0;
     bool loop = true;                     // file sources: start again at the end

@@ -1,0 +1,40 @@
+// Format negotiation with a V4L2 capture device: which of the device's pixel formats and
+// frame sizes lumar asks for, and what colorimetry the accepted format carries.
+#pragma once
+
+#include <linux/videodev2.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "capture/v4l2/ycbcr_to_rgb.h"
+
+namespace lumar {
+
+// The pixel formats lumar converts, best first: NV12 and YUYV carry colour, GREY luma only.
+const std::vector<uint32_t>& supportedPixelFormats();
+
+// The preferred format among the device's, or 0 when the device offers none lumar converts.
+uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats);
+
+struct FrameSize {
+    uint32_t width = 0;
+    uint32_t height = 0;
+};
+
+// The device size closest to the request (exact when offered; else least area difference,
+// ties to the larger). `sizes` must not be empty.
+FrameSize chooseFrameSize(const std::vector<FrameSize>& sizes, FrameSize requested);
+
+// The matrix and range a negotiated format carries, with V4L2's defaults for the
+// "DEFAULT" values (derived from the colorspace). BT.2020 and SMPTE-240M fall back to
+// BT.709, the closest of the two matrices lumar converts.
+YCbCrColorimetry colorimetryOf(const v4l2_pix_format& format);
+
+// Enumerations through the device's ioctls; they throw RuntimeError on a device failure.
+std::vector<uint32_t> enumeratePixelFormats(const std::string& device, int fd);
+std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, uint32_t pixelFormat,
+                                           FrameSize requested);
+
+} // namespace lumar

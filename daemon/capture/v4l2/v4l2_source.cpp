@@ -1,0 +1,286 @@
+#include "capture/v4l2/v4l2_source.h"
+
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <poll.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "capture/v4l2/v4l2_format.h"
+#include "capture/v4l2/v4l2_ioctl.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kMinimumBuffers = 4;
+
+int64_t monotonicNowNs()
+{
+    timespec now{};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+}
+
+std::string secondsText(int milliseconds)
+{
+    std::ostringstream text;
+    text << milliseconds / 1000.0;
+    return text.str();
+}
+
+} // namespace
+
+V4l2Source::V4l2Source(V4l2Options options) : options_(std::move(options))
+{
+    const std::string& device = options_.device;
+    // Non-blocking, so a wedged driver can only stall us for the poll() timeout.
+    fd_ = UniqueFd(::open(device.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC));
+    if (!fd_.valid()) {
+        throw RuntimeError(device + ": cannot open: " + std::strerror(errno));
+    }
+
+    v4l2_capability capability{};
+    v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_QUERYCAP, &capability, "VIDIOC_QUERYCAP (not a V4L2 device?)");
+    const uint32_t caps = (capability.capabilities & V4L2_CAP_DEVICE_CAPS) ? capability.device_caps
+                                                                             : capability.capabilities;
+    if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
+        throw RuntimeError(device + ": not a streaming video capture device (single-planar capture and "
+                                    "streaming I/O are required)");
+    }
+    LUMAR_LOG(Capture, Info) << device << ": " << reinterpret_cast<const char*>(capability.card) << " ("
+                             << reinterpret_cast<const char*>(capability.driver) << ")";
+
+    negotiateFormat();
+    requestFrameRate();
+    mapBuffers();
+    startStreaming();
+}
+
+V4l2Source::~V4l2Source()
+{
+    if (streaming_) {
+        int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        // An unplugged device fails here with ENODEV; there is nothing left to stop then.
+        v4l2Ioctl(fd_.get(), VIDIOC_STREAMOFF, &type);
+    }
+}
+
+void V4l2Source::negotiateFormat()
+{
+    const std::string& device = options_.device;
+    const std::vector<uint32_t> formats = enumeratePixelFormats(device, fd_.get());
+    pixelFormat_ = choosePixelFormat(formats);
+    if (pixelFormat_ == 0) {
+        std::string offered;
+        for (uint32_t f : formats) {
+            offered += (offered.empty() ? "" : ", ") + fourccName(f);
+        }
+        throw RuntimeError(device + ": no supported pixel format (offers " + (offered.empty() ? "none" : offered) +
+                           "; lumar converts NV12, YUYV, GREY)");
+    }
+    const FrameSize requested{uint32_t(std::max(options_.width, 1)), uint32_t(std::max(options_.height, 1))};
+    const FrameSize size = chooseFrameSize(enumerateFrameSizes(device, fd_.get(), pixelFormat_, requested), requested);
+
+    v4l2_format format{};
+    format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    format.fmt.pix.width = size.width;
+    format.fmt.pix.height = size.height;
+    format.fmt.pix.pixelformat = pixelFormat_;
+    format.fmt.pix.field = V4L2_FIELD_NONE;
+    v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_S_FMT, &format, "VIDIOC_S_FMT");
+    const v4l2_pix_format& accepted = format.fmt.pix;
+    if (accepted.pixelformat != pixelFormat_) {
+        throw RuntimeError(device + ": the driver replaced " + fourccName(pixelFormat_) + " by " +
+                           fourccName(accepted.pixelformat));
+    }
+    const bool subsampled = pixelFormat_ != V4L2_PIX_FMT_GREY;
+    const bool verticallySubsampled = pixelFormat_ == V4L2_PIX_FMT_NV12;
+    const size_t bytesPerPixel = pixelFormat_ == V4L2_PIX_FMT_YUYV ? 2 : 1;
+    if (accepted.width == 0 || accepted.height == 0 || (subsampled && accepted.width % 2 != 0) ||
+        (verticallySubsampled && accepted.height % 2 != 0) || accepted.bytesperline < accepted.width * bytesPerPixel) {
+        throw RuntimeError(device + ": the driver returned an unusable format (" + std::to_string(accepted.width) +
+                           "x" + std::to_string(accepted.height) + ", " + std::to_string(accepted.bytesperline) +
+                           " bytes per line)");
+    }
+    width_ = int(accepted.width);
+    height_ = int(accepted.height);
+    bytesPerLine_ = accepted.bytesperline;
+    const size_t planeSize = bytesPerLine_ * size_t(height_);
+    imageSize_ = verticallySubsampled ? planeSize + planeSize / 2 : planeSize;
+    if (accepted.sizeimage < imageSize_) {
+        throw RuntimeError(device + ": the driver's image size " + std::to_string(accepted.sizeimage) +
+                           " is smaller than the format needs (" + std::to_string(imageSize_) + ")");
+    }
+    converter_ = YCbCrConverter(colorimetryOf(accepted));
+    LUMAR_LOG(Capture, Info) << device << ": " << fourccName(pixelFormat_) << " " << width_ << "x" << height_
+                             << (converter_.colorimetry().matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601")
+                             << (converter_.colorimetry().fullRange ? " full range" : " limited range");
+}
+
+void V4l2Source::requestFrameRate()
+{
+    fps_ = options_.fps;
+    v4l2_streamparm parameters{};
+    parameters.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (v4l2Ioctl(fd_.get(), VIDIOC_G_PARM, &parameters) != 0 ||
+        !(parameters.parm.capture.capability & V4L2_CAP_TIMEPERFRAME)) {
+        LUMAR_LOG(Capture, Info) << options_.device << ": frame rate not settable; assuming " << fps_ << " fps";
+        return;
+    }
+    if (options_.fps > 0.0) {
+        // fps as a fraction with a millisecond-resolution denominator: 30 → 1000/30000.
+        parameters.parm.capture.timeperframe.numerator = 1000;
+        parameters.parm.capture.timeperframe.denominator = uint32_t(std::lround(options_.fps * 1000.0));
+        v4l2IoctlOrThrow(options_.device, fd_.get(), VIDIOC_S_PARM, &parameters, "VIDIOC_S_PARM");
+    }
+    const auto& interval = parameters.parm.capture.timeperframe;
+    if (interval.numerator > 0 && interval.denominator > 0) {
+        fps_ = double(interval.denominator) / double(interval.numerator);
+    }
+}
+
+void V4l2Source::mapBuffers()
+{
+    const std::string& device = options_.device;
+    v4l2_requestbuffers request{};
+    request.count = uint32_t(std::max(options_.bufferCount, kMinimumBuffers));
+    request.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    request.memory = V4L2_MEMORY_MMAP;
+    v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_REQBUFS, &request, "VIDIOC_REQBUFS (MMAP)");
+    if (request.count < 2) {
+        throw RuntimeError(device + ": the driver granted " + std::to_string(request.count) +
+                           " buffers; streaming needs at least 2");
+    }
+    if (request.count < uint32_t(kMinimumBuffers)) {
+        LUMAR_LOG(Capture, Warn) << device << ": only " << request.count << " buffers granted; frames may drop";
+    }
+    buffers_.reserve(request.count);
+    for (uint32_t index = 0; index < request.count; ++index) {
+        v4l2_buffer buffer{};
+        buffer.index = index;
+        buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        buffer.memory = V4L2_MEMORY_MMAP;
+        v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_QUERYBUF, &buffer, "VIDIOC_QUERYBUF");
+        if (buffer.length < imageSize_) {
+            throw RuntimeError(device + ": buffer " + std::to_string(index) + " holds " +
+                               std::to_string(buffer.length) + " bytes, the image needs " + std::to_string(imageSize_));
+        }
+        void* address = ::mmap(nullptr, buffer.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_.get(),
+                               off_t(buffer.m.offset));
+        if (address == MAP_FAILED) {
+            throwDeviceError(device, "mmap of a capture buffer", errno);
+        }
+        buffers_.emplace_back(address, buffer.length);
+    }
+}
+
+void V4l2Source::startStreaming()
+{
+    for (uint32_t index = 0; index < buffers_.size(); ++index) {
+        queueBuffer(index);
+    }
+    int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    v4l2IoctlOrThrow(options_.device, fd_.get(), VIDIOC_STREAMON, &type, "VIDIOC_STREAMON");
+    streaming_ = true;
+}
+
+void V4l2Source::queueBuffer(uint32_t index)
+{
+    v4l2_buffer buffer{};
+    buffer.index = index;
+    buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    buffer.memory = V4L2_MEMORY_MMAP;
+    v4l2IoctlOrThrow(options_.device, fd_.get(), VIDIOC_QBUF, &buffer, "VIDIOC_QBUF");
+}
+
+bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer)
+{
+    const std::string& device = options_.device;
+    const int64_t deadline = monotonicNowNs() + int64_t(options_.frameTimeoutMs) * 1'000'000;
+    for (;;) {
+        buffer = v4l2_buffer{};
+        buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        buffer.memory = V4L2_MEMORY_MMAP;
+        const int error = v4l2Ioctl(fd_.get(), VIDIOC_DQBUF, &buffer);
+        if (error == 0) {
+            break;
+        }
+        if (error != EAGAIN) {
+            throwDeviceError(device, "VIDIOC_DQBUF", error);
+        }
+        const int64_t remainingMs = (deadline - monotonicNowNs() + 999'999) / 1'000'000;
+        if (remainingMs <= 0) {
+            throw RuntimeError(device + ": no frame for " + secondsText(options_.frameTimeoutMs) + " s");
+        }
+        pollfd waitFor{fd_.get(), POLLIN, 0};
+        const int ready = ::poll(&waitFor, 1, int(remainingMs));
+        if (ready < 0 && errno != EINTR) {
+            throwDeviceError(device, "poll", errno);
+        }
+        // POLLERR: the next DQBUF reports the cause (ENODEV for an unplugged device).
+    }
+    if (buffer.index >= buffers_.size()) {
+        throw RuntimeError(device + ": the driver returned buffer index " + std::to_string(buffer.index) + " of " +
+                           std::to_string(buffers_.size()));
+    }
+    if (lastSequence_ && buffer.sequence > *lastSequence_ + 1) {
+        const uint32_t gap = buffer.sequence - *lastSequence_ - 1;
+        framesDropped_ += gap;
+        LUMAR_LOG(Capture, Warn) << device << ": " << gap << " frame(s) dropped before sequence " << buffer.sequence
+                                 << " (" << framesDropped_ << " in all)";
+    }
+    lastSequence_ = buffer.sequence;
+    if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < imageSize_) {
+        ++framesCorrupt_;
+        LUMAR_LOG(Capture, Warn) << device << ": frame " << buffer.sequence << " is corrupt (" << buffer.bytesused
+                                 << " of " << imageSize_ << " bytes" << ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : "")
+                                 << "); skipped";
+        queueBuffer(buffer.index);
+        return false;
+    }
+    return true;
+}
+
+bool V4l2Source::next(Frame& frame)
+{
+    v4l2_buffer buffer{};
+    while (!dequeueGoodBuffer(buffer)) {
+    }
+    const bool monotonic =
+        (buffer.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+    frame.sequence = buffer.sequence;
+    // A driver without monotonic timestamps gets the dequeue time: late, but on the right clock.
+    frame.timestampNs = monotonic ? int64_t(buffer.timestamp.tv_sec) * 1'000'000'000 +
+                                        int64_t(buffer.timestamp.tv_usec) * 1000
+                                  : monotonicNowNs();
+    convert(buffers_[buffer.index].data(), frame);
+    queueBuffer(buffer.index);
+    return true;
+}
+
+void V4l2Source::convert(const uint8_t* data, Frame& frame) const
+{
+    switch (pixelFormat_) {
+    case V4L2_PIX_FMT_YUYV:
+        converter_.convertYuyv(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
+        break;
+    case V4L2_PIX_FMT_NV12:
+        converter_.convertNv12(data, bytesPerLine_, data + bytesPerLine_ * size_t(height_), bytesPerLine_, width_,
+                               height_, frame.rgb, frame.luma);
+        break;
+    default:
+        converter_.convertGrey(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
+        break;
+    }
+}
+
+} // namespace lumar

@@ -1,0 +1,49 @@
+// Camera YCbCr layouts (YUYV 4:2:2, NV12 4:2:0, GREY) → 3-channel sRGB plus the tracker's
+// luma plane, for either matrix (BT.601 / BT.709) and either quantization range, as the V4L2
+// driver reports them. Chroma is replicated over the luma samples it covers (no
+// interpolation): the tracker reads luma only, and replication keeps a 720p frame cheap.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/image.h"
+
+namespace lumar {
+
+enum class YCbCrMatrix { Bt601, Bt709 };
+
+struct YCbCrColorimetry {
+    YCbCrMatrix matrix = YCbCrMatrix::Bt601;
+    bool fullRange = false;  // false: Y in [16, 235], Cb/Cr in [16, 240]
+};
+
+// One colorimetry's conversion as lookup tables in 16.16 fixed point, built once per stream.
+class YCbCrConverter {
+public:
+    explicit YCbCrConverter(YCbCrColorimetry colorimetry);
+
+    // Each reads `height` rows of `width` pixels; strides are in bytes. `width` must be even
+    // for YUYV and NV12, `height` even for NV12 (V4L2 guarantees both for these formats).
+    void convertYuyv(const uint8_t* data, size_t stride, int width, int height, Image8& rgb, Image8& luma) const;
+    void convertNv12(const uint8_t* yPlane, size_t yStride, const uint8_t* uvPlane, size_t uvStride, int width,
+                     int height, Image8& rgb, Image8& luma) const;
+    void convertGrey(const uint8_t* data, size_t stride, int width, int height, Image8& rgb, Image8& luma) const;
+
+    [[nodiscard]] YCbCrColorimetry colorimetry() const { return colorimetry_; }
+
+private:
+    // One pixel from its Y and the (already looked-up) chroma terms.
+    void writePixel(uint8_t yValue, int32_t redChroma, int32_t greenChroma, int32_t blueChroma, uint8_t* rgbOut,
+                    uint8_t* lumaOut) const;
+
+    YCbCrColorimetry colorimetry_;
+    std::array<int32_t, 256> yTerm_{};      // Y expanded to full range, 16.16
+    std::array<int32_t, 256> crToRed_{};
+    std::array<int32_t, 256> cbToGreen_{};  // both green terms are subtracted
+    std::array<int32_t, 256> crToGreen_{};
+    std::array<int32_t, 256> cbToBlue_{};
+};
+
+} // namespace lumar

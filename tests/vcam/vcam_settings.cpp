@@ -1,0 +1,74 @@
+#include "vcam/vcam_settings.h"
+
+#include <linux/videodev2.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <string_view>
+
+namespace lumar::vcam {
+namespace {
+
+void readInteger(const char* name, int64_t& value)
+{
+    const char* text = std::getenv(name);
+    if (text == nullptr) {
+        return;
+    }
+    const std::string_view view(text);
+    int64_t parsed = 0;
+    const auto [end, error] = std::from_chars(view.data(), view.data() + view.size(), parsed);
+    if (error == std::errc() && end == view.data() + view.size()) {
+        value = parsed;
+    }
+}
+
+// "YUYV,GREY" → the fourccs this device knows, in the order given.
+std::vector<uint32_t> readFormats(const char* text)
+{
+    std::vector<uint32_t> formats;
+    std::string_view rest(text);
+    while (!rest.empty()) {
+        const size_t comma = rest.find(',');
+        const std::string_view name = rest.substr(0, comma);
+        for (uint32_t known : {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_GREY}) {
+            const char code[4] = {char(known & 0xff), char((known >> 8) & 0xff), char((known >> 16) & 0xff),
+                                  char(known >> 24)};
+            if (name == std::string_view(code, 4)) {
+                formats.push_back(known);
+            }
+        }
+        rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+    }
+    return formats;
+}
+
+} // namespace
+
+Settings settingsFromEnvironment()
+{
+    Settings settings;
+    if (const char* path = std::getenv("LUMAR_VCAM_DEVICE"); path != nullptr && *path != '\0') {
+        settings.devicePath = path;
+    }
+    if (const char* encoding = std::getenv("LUMAR_VCAM_YCBCR_ENC"); encoding != nullptr) {
+        settings.bt709 = std::string_view(encoding) == "709";
+    }
+    if (const char* range = std::getenv("LUMAR_VCAM_QUANTIZATION"); range != nullptr) {
+        settings.fullRange = std::string_view(range) == "full";
+    }
+    if (const char* formats = std::getenv("LUMAR_VCAM_FORMATS"); formats != nullptr) {
+        settings.pixelFormats = readFormats(formats);
+    }
+    if (settings.pixelFormats.empty()) {
+        settings.pixelFormats = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_GREY};
+    }
+    readInteger("LUMAR_VCAM_FAULT_UNPLUG_AT", settings.unplugAt);
+    readInteger("LUMAR_VCAM_FAULT_STALL_AT", settings.stallAt);
+    readInteger("LUMAR_VCAM_FAULT_STALL_MS", settings.stallMs);
+    readInteger("LUMAR_VCAM_FAULT_DROP_EVERY", settings.dropEvery);
+    readInteger("LUMAR_VCAM_FAULT_SHORT_EVERY", settings.shortEvery);
+    return settings;
+}
+
+} // namespace lumar::vcam
