@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "capture/reconnecting_source.h"
 #include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
@@ -58,7 +59,21 @@ int renderCommand(const Args& args)
     FrameReport report;
     long rendered = 0, withMarker = 0;
     const auto start = std::chrono::steady_clock::now();
-    while (rendered < frames && pipeline.step(report)) {
+    // An offline render waits for a lost camera, but not forever.
+    constexpr auto kCameraGiveUp = std::chrono::seconds(10);
+    auto cameraLostSince = std::chrono::steady_clock::time_point::max();
+    for (;;) {
+        try {
+            if (rendered >= frames || !pipeline.step(report))
+                break;
+            cameraLostSince = std::chrono::steady_clock::time_point::max();
+        } catch (const CameraUnavailable&) {
+            const auto now = std::chrono::steady_clock::now();
+            cameraLostSince = std::min(cameraLostSince, now);
+            if (now - cameraLostSince > kCameraGiveUp)
+                throw;
+            continue;
+        }
         ++rendered;
         withMarker += report.detections.empty() ? 0 : 1;
         for (auto& writer : writers)

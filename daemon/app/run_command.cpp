@@ -12,6 +12,7 @@
 
 #include "command_line.h"
 #include "commands.h"
+#include "capture/reconnecting_source.h"
 #include "config/config.h"
 #include "config_watcher.h"
 #include "core/error.h"
@@ -189,6 +190,11 @@ int runCommand(const Args& args)
         } catch (const InputError& e) {
             // A corrupt frame from a file source: report it and keep showing the last good one.
             LUMAR_LOG(Capture, Error) << e.what();
+            continue;
+        } catch (const CameraUnavailable& e) {
+            // Unplugged or hung: the capture thread is reopening it with backoff; the last
+            // frame stays on the output meanwhile.
+            notifier.status(std::string("camera unavailable: ") + e.what());
             continue;
         }
         ++frames;
