@@ -7,6 +7,7 @@ add_library(lumar_render STATIC
   "${CMAKE_CURRENT_LIST_DIR}/environment_lighting.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/frame_readback.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gl_check.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/gl_probe.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gles_scene_renderer.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gpu_model.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gpu_texture.cpp"

@@ -15,6 +15,7 @@ int runCommand(const Args& args);
 int checkConfigCommand(const Args& args);
 int detectCommand(const Args& args);
 int benchCommand(const Args& args);
+int probeCommand(const Args& args);
 
 // Loads --config FILE if given, else the built-in default, and applies its log level unless
 // --log-level overrides it.

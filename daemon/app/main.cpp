@@ -19,6 +19,7 @@ commands:
   check-config  validate a configuration file
   detect        detect AprilTags in images and print their poses as JSON
   bench         time the pipeline: fps, frame-time percentiles, per-stage times, memory
+  probe         list cameras and formats, the EGL/GLES implementation, display devices
 
 Run 'lumar <command> --help' for a command's options.
 Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.
@@ -35,6 +36,7 @@ constexpr Command kCommands[] = {
     {"check-config", lumar::checkConfigCommand},
     {"detect", lumar::detectCommand},
     {"bench", lumar::benchCommand},
+    {"probe", lumar::probeCommand},
 };
 
 } // namespace

@@ -35,7 +35,7 @@ size_t lineCount(const std::string& s)
 TEST(Cli, HelpForEveryCommand)
 {
     const auto dir = test::scratchDirectory("help");
-    for (const char* command : {"render", "run", "check-config", "detect", "bench"}) {
+    for (const char* command : {"render", "run", "check-config", "detect", "bench", "probe"}) {
         const auto r = runLumar({command, "--help"}, dir);
         EXPECT_EQ(r.exitCode, 0) << command;
         EXPECT_NE(r.out.find("usage: lumar"), std::string::npos) << command;

@@ -1,0 +1,97 @@
+// lumar probe: what this machine offers lumar — cameras and their formats, the EGL/GLES
+// implementation and the extensions that matter, display devices. Informational: it reports
+// what is missing instead of failing.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "capture/v4l2/v4l2_probe.h"
+#include "command_line.h"
+#include "commands.h"
+#include "core/error.h"
+#include "gles_renderer/gl_probe.h"
+
+namespace lumar {
+namespace {
+
+constexpr const char* kHelp = R"(usage: lumar probe [--device PATH ...]
+
+Lists V4L2 cameras (every /dev/video*, plus each --device) with their pixel formats and frame
+sizes, the EGL/GLES implementation with the extensions lumar uses, and DRM devices.
+)";
+
+void printCameras(const std::vector<std::string>& devices)
+{
+    std::printf("V4L2 cameras:\n");
+    if (devices.empty())
+        std::printf("  none (no /dev/video* device)\n");
+    for (const std::string& path : devices) {
+        const V4l2DeviceInfo info = probeV4l2Device(path);
+        if (!info.error.empty()) {
+            std::printf("  %s: %s\n", path.c_str(), info.error.c_str());
+            continue;
+        }
+        std::printf("  %s: %s (driver %s, %s)%s\n", path.c_str(), info.card.c_str(), info.driver.c_str(),
+                    info.busInfo.c_str(), info.streamingCapture ? "" : " — not a streaming capture device");
+        for (const V4l2FormatInfo& format : info.formats) {
+            std::printf("    %-4s %s", format.fourcc.c_str(), format.convertible ? "" : "(not used by lumar) ");
+            for (const FrameSize& size : format.sizes)
+                std::printf(" %ux%u", size.width, size.height);
+            std::printf("\n");
+        }
+    }
+    std::printf("libcamera cameras:\n  not probed: this build has no libcamera backend\n");
+}
+
+void printGraphics()
+{
+    std::printf("EGL/GLES (surfaceless):\n");
+    try {
+        const GlInfo gl = probeGl();
+        std::printf("  EGL %s (%s), client APIs: %s\n", gl.eglVersion.c_str(), gl.eglVendor.c_str(),
+                    gl.eglClientApis.c_str());
+        std::printf("  %s, %s\n  renderer: %s\n", gl.glVersion.c_str(), gl.glslVersion.c_str(), gl.glRenderer.c_str());
+        for (const auto* list : {&gl.eglExtensions, &gl.glExtensions})
+            for (const auto& [name, present] : *list)
+                std::printf("  %-42s %s\n", name.c_str(), present ? "yes" : "no");
+    } catch (const RuntimeError& e) {
+        std::printf("  unavailable: %s\n", e.what());
+    }
+}
+
+void printDisplays()
+{
+    std::printf("DRM devices:\n");
+    std::vector<std::string> nodes;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator("/dev/dri", ec))
+        nodes.push_back(entry.path().string());
+    std::sort(nodes.begin(), nodes.end());
+    if (nodes.empty())
+        std::printf("  none (no /dev/dri): output is headless only\n");
+    for (const std::string& node : nodes)
+        std::printf("  %s\n", node.c_str());
+}
+
+} // namespace
+
+int probeCommand(const Args& args)
+{
+    const CommandLine cl(args, {{"device", true, true}});
+    if (cl.helpRequested()) {
+        std::fputs(kHelp, stdout);
+        return kExitOk;
+    }
+    if (!cl.positional().empty())
+        throw UsageError("unexpected argument '" + cl.positional().front() + "'");
+    std::vector<std::string> devices = listVideoDevices();
+    for (const std::string& device : cl.values("device"))
+        if (std::find(devices.begin(), devices.end(), device) == devices.end())
+            devices.push_back(device);
+    printCameras(devices);
+    printGraphics();
+    printDisplays();
+    return kExitOk;
+}
+
+} // namespace lumar

@@ -1,0 +1,21 @@
+// What `lumar probe` reports about the EGL/GLES implementation: versions, renderer, and
+// whether each extension lumar uses or will use is present.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lumar {
+
+struct GlInfo {
+    std::string eglVendor, eglVersion, eglClientApis;
+    std::string glVersion, glRenderer, glslVersion;
+    std::vector<std::pair<std::string, bool>> eglExtensions;  // name, present
+    std::vector<std::pair<std::string, bool>> glExtensions;
+};
+
+// Creates a surfaceless context to ask. Throws RuntimeError where no EGL/GLES 3 exists.
+GlInfo probeGl();
+
+} // namespace lumar
