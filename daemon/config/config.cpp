@@ -104,6 +104,8 @@ void readTracking(TableReader& root, TrackingConfig& tracking, const Context& ct
     r.boolean("refine_edges", tracking.refineEdges);
     r.number("decode_sharpening", tracking.decodeSharpening, 0.0, 5.0);
     r.integer("threads", tracking.threads, 1, 64);
+    r.boolean("roi", tracking.roi);
+    r.integer("full_frame_every", tracking.fullFrameEvery, 1, 1000);
     r.finish();
 }
 

@@ -44,6 +44,8 @@ struct TrackingConfig {
     bool refineEdges = true;
     double decodeSharpening = 0.25;
     int threads = 2;
+    bool roi = true;            // search near the last detections first (full frame as fallback)
+    int fullFrameEvery = 10;    // with roi: a full-frame search at least this often (new tags)
 };
 
 struct MarkerConfig {

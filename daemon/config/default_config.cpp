@@ -34,6 +34,8 @@ quad_sigma = 0.0
 refine_edges = true
 decode_sharpening = 0.25
 threads = 2
+roi = true
+full_frame_every = 10
 
 [[markers]]
 id = 0

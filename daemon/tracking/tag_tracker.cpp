@@ -80,7 +80,81 @@ struct TagTracker::Impl {
     TagSizes sizes;
     bool copyInput = false;
     std::vector<uint8_t> scratch;  // the copy the library may modify, reused every frame
+    // Region-of-interest search around the last detections (DESIGN.md §5).
+    bool roi = false;
+    int fullFrameEvery = 1;
+    int roiAlignment = 8;
+    int framesSinceFullSearch = 0;
+    std::vector<TagDetection> last;
+
+    // Detects in the rectangle [x0, x1) x [y0, y1) of `pixels` (row stride `stride`) and
+    // appends to `out` with corners in full-image coordinates.
+    void detectIn(uint8_t* pixels, int stride, int x0, int y0, int x1, int y1, std::vector<TagDetection>& out);
 };
+
+namespace {
+
+// The search window around the last detections: their bounding box grown by its own size
+// (a tag moving fast between frames stays inside), at least kMinRoiMargin pixels each side.
+constexpr double kMinRoiMargin = 48.0;
+
+struct Window {
+    int x0, y0, x1, y1;
+};
+
+// `align`: the window's origin is a multiple of it, so the library's decimation grid and its
+// threshold tiles (4x4 decimated pixels) fall exactly where a full-frame search puts them and
+// both searches see the same pixels the same way.
+Window searchWindow(const std::vector<TagDetection>& last, int width, int height, int align)
+{
+    double minX = 1e9, minY = 1e9, maxX = -1e9, maxY = -1e9;
+    for (const TagDetection& d : last)
+        for (const glm::dvec2& c : d.corners) {
+            minX = std::min(minX, c.x);
+            minY = std::min(minY, c.y);
+            maxX = std::max(maxX, c.x);
+            maxY = std::max(maxY, c.y);
+        }
+    const double margin = std::max(kMinRoiMargin, 0.5 * std::max(maxX - minX, maxY - minY));
+    const auto alignDown = [align](int v) { return v / align * align; };
+    return {alignDown(std::clamp(int(std::floor(minX - margin)), 0, width)),
+            alignDown(std::clamp(int(std::floor(minY - margin)), 0, height)),
+            std::clamp(int(std::ceil(maxX + margin)), 0, width), std::clamp(int(std::ceil(maxY + margin)), 0, height)};
+}
+
+// A tag cut by the window's edge can still decode, with a wrong quad; such a result is not
+// trusted (the caller searches the full frame). Edges that are the image's own are fine.
+constexpr double kWindowEdgeClearance = 4.0;
+
+bool wellInside(const std::vector<TagDetection>& detections, const Window& w, int width, int height)
+{
+    for (const TagDetection& d : detections)
+        for (const glm::dvec2& c : d.corners) {
+            if ((w.x0 > 0 && c.x < w.x0 + kWindowEdgeClearance) || (w.y0 > 0 && c.y < w.y0 + kWindowEdgeClearance) ||
+                (w.x1 < width && c.x > w.x1 - kWindowEdgeClearance) ||
+                (w.y1 < height && c.y > w.y1 - kWindowEdgeClearance))
+                return false;
+        }
+    return true;
+}
+
+// By id, then left to right for repeated ids.
+void sortDetections(std::vector<TagDetection>& detections)
+{
+    std::sort(detections.begin(), detections.end(), [](const TagDetection& a, const TagDetection& b) {
+        if (a.id != b.id)
+            return a.id < b.id;
+        return a.corners[0].x < b.corners[0].x;
+    });
+}
+
+bool sameIds(const std::vector<TagDetection>& a, const std::vector<TagDetection>& b)
+{
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                      [](const TagDetection& x, const TagDetection& y) { return x.id == y.id; });
+}
+
+} // namespace
 
 TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& intrinsics, TagSizes sizes)
     : impl_(std::make_unique<Impl>())
@@ -107,6 +181,9 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     impl_->intrinsics = intrinsics;
     impl_->sizes = std::move(sizes);
     impl_->copyInput = libraryWritesInput(config);
+    impl_->roi = config.roi;
+    impl_->fullFrameEvery = std::max(1, config.fullFrameEvery);
+    impl_->roiAlignment = 4 * int(std::ceil(config.quadDecimate));
     LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits
                               << " bits), quad_decimate " << config.quadDecimate << ", quad_sigma "
                               << config.quadSigma << ", refine_edges " << config.refineEdges << ", "
@@ -143,13 +220,37 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         impl_->scratch.assign(luma.data.begin(), luma.data.end());
         pixels = impl_->scratch.data();
     }
-    image_u8_t image{luma.width, luma.height, luma.width, pixels};
-    const DetectionsPtr detections(apriltag_detector_detect(impl_->detector.get(), &image));
+    // Search near the last detections; fall back to the full frame when a tag went missing
+    // there, and search the full frame regularly anyway so new tags are found.
+    bool searched = false;
+    if (impl_->roi && !impl_->last.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
+        const Window w = searchWindow(impl_->last, luma.width, luma.height, impl_->roiAlignment);
+        if (w.x1 - w.x0 >= kMinImageSide && w.y1 - w.y0 >= kMinImageSide) {
+            impl_->detectIn(pixels, luma.width, w.x0, w.y0, w.x1, w.y1, result);
+            sortDetections(result);
+            searched = sameIds(result, impl_->last) && wellInside(result, w, luma.width, luma.height);
+        }
+    }
+    if (!searched) {
+        result.clear();
+        impl_->framesSinceFullSearch = 0;
+        impl_->detectIn(pixels, luma.width, 0, 0, luma.width, luma.height, result);
+    }
+    sortDetections(result);
+    impl_->last = result;
+    return result;
+}
+
+void TagTracker::Impl::detectIn(uint8_t* pixels, int stride, int x0, int y0, int x1, int y1,
+                                std::vector<TagDetection>& out)
+{
+    image_u8_t image{x1 - x0, y1 - y0, stride, pixels + size_t(y0) * size_t(stride) + size_t(x0)};
+    const DetectionsPtr detections(apriltag_detector_detect(detector.get(), &image));
     if (!detections)
         throw RuntimeError("AprilTag detection failed");
 
     const int count = zarray_size(detections.get());
-    result.reserve(size_t(count));
+    out.reserve(out.size() + size_t(count));
     for (int i = 0; i < count; ++i) {
         apriltag_detection_t* det = nullptr;
         zarray_get(detections.get(), i, &det);
@@ -159,22 +260,16 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         d.decisionMargin = det->decision_margin;
         // The library's pixel (0,0) covers [0,1]^2, ours [-0.5,0.5]^2 (DESIGN.md §5).
         for (int c = 0; c < 4; ++c)
-            d.corners[size_t(c)] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
-        const double size = impl_->sizes.of(d.id);
+            d.corners[size_t(c)] = {det->p[c][0] - 0.5 + x0, det->p[c][1] - 0.5 + y0};
+        const double size = sizes.of(d.id);
         if (size > 0.0) {
-            d.hasPose = solveTagPose(d.corners, size, k, d.cameraFromMarker, d.reprojectionErrorPx);
+            d.hasPose = solveTagPose(d.corners, size, intrinsics, d.cameraFromMarker, d.reprojectionErrorPx);
             if (!d.hasPose) {
                 LUMAR_LOG(Tracking, Debug) << "tag " << d.id << ": no plausible pose";
             }
         }
-        result.push_back(d);
+        out.push_back(d);
     }
-    std::sort(result.begin(), result.end(), [](const TagDetection& a, const TagDetection& b) {
-        if (a.id != b.id)
-            return a.id < b.id;
-        return a.corners[0].x < b.corners[0].x;
-    });
-    return result;
 }
 
 } // namespace lumar
