@@ -16,6 +16,7 @@ int checkConfigCommand(const Args& args);
 int detectCommand(const Args& args);
 int benchCommand(const Args& args);
 int probeCommand(const Args& args);
+int calibrateCommand(const Args& args);
 
 // Loads --config FILE if given, else the built-in default, and applies its log level unless
 // --log-level overrides it.

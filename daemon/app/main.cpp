@@ -20,6 +20,7 @@ commands:
   detect        detect AprilTags in images and print their poses as JSON
   bench         time the pipeline: fps, frame-time percentiles, per-stage times, memory
   probe         list cameras and formats, the EGL/GLES implementation, display devices
+  calibrate     camera intrinsics from chessboard photos, written as OpenCV YAML
 
 Run 'lumar <command> --help' for a command's options.
 Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input.
@@ -37,6 +38,7 @@ constexpr Command kCommands[] = {
     {"detect", lumar::detectCommand},
     {"bench", lumar::benchCommand},
     {"probe", lumar::probeCommand},
+    {"calibrate", lumar::calibrateCommand},
 };
 
 } // namespace

@@ -193,7 +193,8 @@ CameraIntrinsics loadCalibration(const std::filesystem::path& file)
     }
 }
 
-void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics)
+void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics,
+                     std::optional<double> reprojectionRmsPx)
 {
     const std::string name = file.string();
     // Checked here because OpenCV would log its own error line before failing.
@@ -213,6 +214,8 @@ void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& 
         fs << "image_height" << intrinsics.height;
         fs << "camera_matrix" << cv::Mat(cameraMatrix);
         fs << "distortion_coefficients" << cv::Mat(distortion);
+        if (reprojectionRmsPx)
+            fs << "avg_reprojection_error" << *reprojectionRmsPx;
         fs.release();
     } catch (const cv::Exception& e) {
         throw RuntimeError(name + ": cannot write: " + oneLine(e.err));

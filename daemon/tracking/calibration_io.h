@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 
 #include "core/camera_model.h"
 
@@ -11,7 +12,9 @@ namespace lumar {
 // Throws InputError "FILE: what is wrong" for a missing, malformed or implausible file.
 CameraIntrinsics loadCalibration(const std::filesystem::path& file);
 
-// Throws RuntimeError when the file cannot be written.
-void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics);
+// Throws RuntimeError when the file cannot be written. A calibration's reprojection RMS, when
+// given, is recorded as avg_reprojection_error (OpenCV's sample's key; loadCalibration ignores it).
+void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics,
+                     std::optional<double> reprojectionRmsPx = std::nullopt);
 
 } // namespace lumar

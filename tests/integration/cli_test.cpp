@@ -35,7 +35,7 @@ size_t lineCount(const std::string& s)
 TEST(Cli, HelpForEveryCommand)
 {
     const auto dir = test::scratchDirectory("help");
-    for (const char* command : {"render", "run", "check-config", "detect", "bench", "probe"}) {
+    for (const char* command : {"render", "run", "check-config", "detect", "bench", "probe", "calibrate"}) {
         const auto r = runLumar({command, "--help"}, dir);
         EXPECT_EQ(r.exitCode, 0) << command;
         EXPECT_NE(r.out.find("usage: lumar"), std::string::npos) << command;
@@ -152,6 +152,27 @@ TEST(Cli, BenchPrintsItsJsonReport)
     for (const char* stage : {"capture", "detect", "render", "readback"})
         EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
     EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
+}
+
+TEST(Cli, CalibrateWritesAYamlThatLoads)
+{
+    const auto dir = test::scratchDirectory("calibrate");
+    const auto out = dir / "camera.yaml";
+    const auto r = runLumar({"calibrate", "--images", kSource + "/tests/data/calib/chessboard", "--board", "9x6",
+                             "--square", "0.025", "--out", out.string()},
+                            dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("left01.jpg"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
+    // The written calibration is usable by the other commands.
+    const auto check = runLumar({"detect", "--tag-size", "0.1", "--calib", out.string(),
+                                 kSource + "/tests/data/calib/chessboard/left01.jpg"},
+                                dir);
+    EXPECT_EQ(check.exitCode, 0) << check.err;
+    const auto bad = runLumar({"calibrate", "--images", dir.string(), "--board", "9x6", "--square", "0.025", "--out",
+                               (dir / "x.yaml").string()},
+                              dir);
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
 }
 
 TEST(Cli, DetectPrintsOneJsonObjectPerImage)
