@@ -49,7 +49,7 @@ void BackgroundPass::draw(const Image8& rgb) const
         // Straight into the framebuffer's own texture: the copy is exact by construction and
         // costs no fragment work.
         upload(targetTexture_, rgb);
-        glBindTexture(GL_TEXTURE_2D, 0);  // never leave the render target bound for sampling
+        glBindTexture(GL_TEXTURE_2D, 0); // never leave the render target bound for sampling
         return;
     }
     upload(texture_.name(), rgb);

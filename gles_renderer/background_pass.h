@@ -26,11 +26,11 @@ private:
 
     int width_;
     int height_;
-    GLuint targetTexture_;  // the target's colour texture; 0 when multisampled
+    GLuint targetTexture_; // the target's colour texture; 0 when multisampled
     // Only for multisampled targets:
     GlProgram program_;
     GlTexture texture_;
-    GlVertexArray emptyVertexArray_;  // GLES 3 draws need a bound vertex array
+    GlVertexArray emptyVertexArray_; // GLES 3 draws need a bound vertex array
 };
 
 } // namespace lumar

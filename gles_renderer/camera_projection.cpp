@@ -8,7 +8,7 @@ glm::dmat4 clipFromCamera(const CameraIntrinsics& intrinsics, int width, int hei
     // x_clip = (2 fx / width) x + ((2 cx + 1) / width - 1) z; likewise for y.
     const double w = width;
     const double h = height;
-    glm::dmat4 m(0.0);  // column-major: m[column][row]
+    glm::dmat4 m(0.0); // column-major: m[column][row]
     m[0][0] = 2.0 * intrinsics.fx / w;
     m[2][0] = (2.0 * intrinsics.cx + 1.0) / w - 1.0;
     m[1][1] = 2.0 * intrinsics.fy / h;

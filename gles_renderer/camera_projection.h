@@ -17,7 +17,7 @@ inline constexpr double kFarPlaneMetres = 100.0;
 // centre of pixel (u, v); depth maps [nearZ, farZ] to [-1, 1]. The image's y-down axis
 // stays y-down in window coordinates, so front faces (counter-clockwise as seen in a
 // right-handed frame) wind clockwise in the window: use glFrontFace(GL_CW).
-glm::dmat4 clipFromCamera(const CameraIntrinsics& intrinsics, int width, int height,
-                          double nearZ = kNearPlaneMetres, double farZ = kFarPlaneMetres);
+glm::dmat4 clipFromCamera(const CameraIntrinsics& intrinsics, int width, int height, double nearZ = kNearPlaneMetres,
+                          double farZ = kFarPlaneMetres);
 
 } // namespace lumar

@@ -30,16 +30,26 @@ bool extensionListHas(std::string_view list, std::string_view name)
 std::string eglErrorName(EGLint error)
 {
     switch (error) {
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return "EGL error " + std::to_string(error);
+    case EGL_NOT_INITIALIZED:
+        return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+        return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+        return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+        return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+        return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+        return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+        return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+        return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+        return "EGL_BAD_PARAMETER";
+    default:
+        return "EGL error " + std::to_string(error);
     }
 }
 
@@ -98,7 +108,10 @@ EglDisplay& EglDisplay::operator=(EglDisplay&& other) noexcept
     return *this;
 }
 
-EglDisplay::~EglDisplay() { terminate(); }
+EglDisplay::~EglDisplay()
+{
+    terminate();
+}
 
 void EglDisplay::terminate()
 {
@@ -107,7 +120,10 @@ void EglDisplay::terminate()
     display_ = EGL_NO_DISPLAY;
 }
 
-bool EglDisplay::hasExtension(std::string_view name) const { return extensionListHas(extensions_, name); }
+bool EglDisplay::hasExtension(std::string_view name) const
+{
+    return extensionListHas(extensions_, name);
+}
 
 EglContext::EglContext(std::shared_ptr<EglDisplay> display) : display_(std::move(display))
 {
@@ -153,7 +169,10 @@ EglContext& EglContext::operator=(EglContext&& other) noexcept
     return *this;
 }
 
-EglContext::~EglContext() { destroy(); }
+EglContext::~EglContext()
+{
+    destroy();
+}
 
 void EglContext::destroy()
 {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -54,7 +54,10 @@ ImageF uniformEnvironment(float radiance)
 
 } // namespace
 
-EnvironmentLighting::EnvironmentLighting() { set(uniformEnvironment(1.0f), 1.0f); }
+EnvironmentLighting::EnvironmentLighting()
+{
+    set(uniformEnvironment(1.0f), 1.0f);
+}
 
 void EnvironmentLighting::set(const ImageF& equirect, float intensity)
 {
@@ -77,15 +80,14 @@ void EnvironmentLighting::set(const ImageF& equirect, float intensity)
 
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, GLsizei(levels.size() - first), GL_RGB16F, levels[first].width,
-                   levels[first].height);
+    glTexStorage2D(GL_TEXTURE_2D, GLsizei(levels.size() - first), GL_RGB16F, levels[first].width, levels[first].height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (size_t i = first; i < levels.size(); ++i)
         glTexSubImage2D(GL_TEXTURE_2D, GLint(i - first), 0, 0, levels[i].width, levels[i].height, GL_RGB, GL_FLOAT,
                         levels[i].data.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);  // longitude wraps around
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT); // longitude wraps around
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     checkGlError("uploading the environment map");
 

@@ -55,8 +55,7 @@ ImageF decodeHdr(const std::vector<uint8_t>& bytes)
     }
     int width = 0, height = 0, channelsInFile = 0;
     const std::unique_ptr<float, decltype(&stbi_image_free)> pixels(
-        stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channelsInFile, 3),
-        &stbi_image_free);
+        stbi_loadf_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channelsInFile, 3), &stbi_image_free);
     if (!pixels) {
         const char* reason = stbi_failure_reason();
         throw InputError(std::string("cannot decode: ") + (reason ? reason : "unknown stb_image error"));
@@ -75,8 +74,7 @@ ImageF decodeHdr(const std::vector<uint8_t>& bytes)
 }
 
 // The real SH basis of sh9_reference.json / three.js SphericalHarmonics3, evaluated in T.
-template <typename T>
-std::array<T, 9> basis(T x, T y, T z)
+template <typename T> std::array<T, 9> basis(T x, T y, T z)
 {
     return {T(0.282095),
             T(0.488603) * y,
@@ -136,7 +134,8 @@ SH9 projectEquirectSH9(const ImageF& equirect)
         const float* pixel = equirect.row(r);
         for (int c = 0; c < w; ++c, pixel += 3) {
             const glm::dvec3 radiance(pixel[0], pixel[1], pixel[2]);
-            const std::array<double, 9> y9 = basis<double>(sinTheta * cosPhi[size_t(c)], y, sinTheta * sinPhi[size_t(c)]);
+            const std::array<double, 9> y9 =
+                basis<double>(sinTheta * cosPhi[size_t(c)], y, sinTheta * sinPhi[size_t(c)]);
             for (size_t k = 0; k < 9; ++k) {
                 rowSum[k] += radiance * y9[k];
             }
@@ -156,8 +155,8 @@ glm::vec3 irradianceSH9(const SH9& sh, const glm::vec3& unitNormal)
 {
     // Ramamoorthi & Hanrahan 2001: the clamped-cosine kernel's SH coefficients per band.
     constexpr float pi = std::numbers::pi_v<float>;
-    constexpr std::array<float, 9> bandFactor = {pi,          2 * pi / 3,  2 * pi / 3, 2 * pi / 3, pi / 4,
-                                                 pi / 4,      pi / 4,      pi / 4,     pi / 4};
+    constexpr std::array<float, 9> bandFactor = {pi,     2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4,
+                                                 pi / 4, pi / 4,     pi / 4,     pi / 4};
     const std::array<float, 9> y = shBasis(unitNormal);
     glm::vec3 irradiance(0.0f);
     for (size_t k = 0; k < 9; ++k) {

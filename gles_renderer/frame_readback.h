@@ -24,7 +24,7 @@ private:
     int height_;
     // GLES guarantees only RGBA reads; RGB is used where the implementation offers it.
     bool readsRgbDirectly_ = false;
-    std::vector<uint8_t> rgba_;  // reused staging for RGBA reads
+    std::vector<uint8_t> rgba_; // reused staging for RGBA reads
 };
 
 } // namespace lumar

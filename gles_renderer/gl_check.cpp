@@ -11,18 +11,27 @@ namespace {
 std::string glErrorName(GLenum error)
 {
     switch (error) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "GL error " + std::to_string(error);
+    case GL_INVALID_ENUM:
+        return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+        return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+        return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+        return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY:
+        return "GL_OUT_OF_MEMORY";
+    default:
+        return "GL error " + std::to_string(error);
     }
 }
 
 } // namespace
 
-void throwNoGlName(const char* what) { throw RuntimeError(std::string(what) + " returned no object name"); }
+void throwNoGlName(const char* what)
+{
+    throw RuntimeError(std::string(what) + " returned no object name");
+}
 
 void checkGlError(const char* what)
 {
@@ -42,11 +51,21 @@ void checkFramebufferComplete(const char* what)
         return;
     std::string name;
     switch (status) {
-    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: name = "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT"; break;
-    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: name = "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT"; break;
-    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: name = "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE"; break;
-    case GL_FRAMEBUFFER_UNSUPPORTED: name = "GL_FRAMEBUFFER_UNSUPPORTED"; break;
-    default: name = "status " + std::to_string(status); break;
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT:
+        name = "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+        break;
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+        name = "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+        break;
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE:
+        name = "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+        break;
+    case GL_FRAMEBUFFER_UNSUPPORTED:
+        name = "GL_FRAMEBUFFER_UNSUPPORTED";
+        break;
+    default:
+        name = "status " + std::to_string(status);
+        break;
     }
     throw RuntimeError(std::string(what) + ": framebuffer incomplete (" + name + ")");
 }

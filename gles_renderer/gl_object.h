@@ -8,8 +8,7 @@
 
 namespace lumar {
 
-template <typename Traits>
-class GlObject {
+template <typename Traits> class GlObject {
 public:
     GlObject() = default;
     // Takes ownership of an existing name (0 = none).
@@ -49,8 +48,7 @@ private:
 namespace gl_traits {
 
 // Objects made and deleted by glGen*/glDelete* pairs.
-template <auto genFunction, auto deleteFunction>
-struct Generated {
+template <auto genFunction, auto deleteFunction> struct Generated {
     static GLuint create()
     {
         GLuint name = 0;

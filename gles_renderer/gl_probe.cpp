@@ -1,8 +1,9 @@
 #include "gles_renderer/gl_probe.h"
 
-#include <GLES3/gl3.h>
 #include <cstring>
 #include <sstream>
+
+#include <GLES3/gl3.h>
 
 #include "gles_renderer/egl_context.h"
 
@@ -11,13 +12,16 @@ namespace {
 
 // The extensions that change what lumar can do: zero-copy camera import, HDR render
 // targets, fences for display pacing.
-constexpr const char* kEglExtensions[] = {"EGL_MESA_platform_surfaceless", "EGL_KHR_surfaceless_context",
-                                          "EGL_KHR_no_config_context", "EGL_EXT_image_dma_buf_import",
-                                          "EGL_EXT_image_dma_buf_import_modifiers", "EGL_ANDROID_native_fence_sync",
+constexpr const char* kEglExtensions[] = {"EGL_MESA_platform_surfaceless",
+                                          "EGL_KHR_surfaceless_context",
+                                          "EGL_KHR_no_config_context",
+                                          "EGL_EXT_image_dma_buf_import",
+                                          "EGL_EXT_image_dma_buf_import_modifiers",
+                                          "EGL_ANDROID_native_fence_sync",
                                           "EGL_MESA_platform_gbm"};
 constexpr const char* kGlExtensions[] = {"GL_EXT_color_buffer_half_float", "GL_EXT_color_buffer_float",
-                                         "GL_OES_EGL_image_external", "GL_OES_EGL_image_external_essl3",
-                                         "GL_OES_texture_float_linear", "GL_EXT_texture_filter_anisotropic"};
+                                         "GL_OES_EGL_image_external",      "GL_OES_EGL_image_external_essl3",
+                                         "GL_OES_texture_float_linear",    "GL_EXT_texture_filter_anisotropic"};
 
 std::string text(const char* s)
 {

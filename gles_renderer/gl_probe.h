@@ -11,7 +11,7 @@ namespace lumar {
 struct GlInfo {
     std::string eglVendor, eglVersion, eglClientApis;
     std::string glVersion, glRenderer, glslVersion;
-    std::vector<std::pair<std::string, bool>> eglExtensions;  // name, present
+    std::vector<std::pair<std::string, bool>> eglExtensions; // name, present
     std::vector<std::pair<std::string, bool>> glExtensions;
 };
 

@@ -30,8 +30,8 @@ std::string glString(GLenum name)
 EglContext makeContext()
 {
     EglContext context(EglDisplay::surfaceless());
-    LUMAR_LOG(Render, Info) << "GLES: " << glString(GL_VERSION) << ", renderer " << glString(GL_RENDERER)
-                            << ", vendor " << glString(GL_VENDOR);
+    LUMAR_LOG(Render, Info) << "GLES: " << glString(GL_VERSION) << ", renderer " << glString(GL_RENDERER) << ", vendor "
+                            << glString(GL_VENDOR);
     return context;
 }
 
@@ -48,8 +48,9 @@ void checkIntrinsics(const CameraIntrinsics& k, int width, int height)
 class GlesSceneRenderer final : public SceneRenderer {
 public:
     GlesSceneRenderer(int width, int height, const RenderOptions& options)
-        : context_(makeContext()), width_(width), height_(height), target_(width, height, options.samples),
-          defaults_{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)},
+        : context_(makeContext()), width_(width), height_(height),
+          target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
+                                                             makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height)
     {
         checkGlError("creating the scene renderer");

@@ -14,26 +14,38 @@ size_t componentBytes(int componentType)
 {
     switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;  // not a glTF 2.0 accessor component type
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+    default:
+        return 0; // not a glTF 2.0 accessor component type
     }
 }
 
 int typeComponents(int type)
 {
     switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+        return 1;
+    case TINYGLTF_TYPE_VEC2:
+        return 2;
+    case TINYGLTF_TYPE_VEC3:
+        return 3;
+    case TINYGLTF_TYPE_VEC4:
+        return 4;
+    case TINYGLTF_TYPE_MAT2:
+        return 4;
+    case TINYGLTF_TYPE_MAT3:
+        return 9;
+    case TINYGLTF_TYPE_MAT4:
+        return 16;
+    default:
+        return 0;
     }
 }
 
@@ -47,7 +59,8 @@ double loadComponent(const unsigned char* p, int componentType, bool normalized)
         std::memcpy(&v, p, 1);
         return normalized ? std::max(v / 127.0, -1.0) : double(v);
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : double(p[0]);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? p[0] / 255.0 : double(p[0]);
     case TINYGLTF_COMPONENT_TYPE_SHORT: {
         int16_t v;
         std::memcpy(&v, p, 2);
@@ -63,7 +76,7 @@ double loadComponent(const unsigned char* p, int componentType, bool normalized)
         std::memcpy(&v, p, 4);
         return double(v);
     }
-    default: {  // FLOAT, the only other type componentBytes() lets through
+    default: { // FLOAT, the only other type componentBytes() lets through
         float v;
         std::memcpy(&v, p, 4);
         return double(v);
@@ -110,9 +123,8 @@ ElementRange locateElements(const tinygltf::Model& model, int viewIndex, size_t 
     // evaluated without overflow.
     const bool firstFits = byteOffset <= view.byteLength && elementBytes <= view.byteLength - byteOffset;
     if (!firstFits || (count - 1) > (view.byteLength - byteOffset - elementBytes) / stride) {
-        throw InputError(what + ": " + std::to_string(count) + " elements from offset " +
-                         std::to_string(byteOffset) + " run past the end of " + viewName + " (" +
-                         std::to_string(view.byteLength) + " bytes)");
+        throw InputError(what + ": " + std::to_string(count) + " elements from offset " + std::to_string(byteOffset) +
+                         " run past the end of " + viewName + " (" + std::to_string(view.byteLength) + " bytes)");
     }
     range.first = data.data() + view.byteOffset + byteOffset;
     return range;
@@ -129,14 +141,13 @@ std::vector<T> decodeAccessor(const tinygltf::Model& model, const tinygltf::Acce
 
     // An accessor without a bufferView reads as zeros (sparse values may then replace some).
     if (accessor.bufferView >= 0) {
-        const ElementRange range = locateElements(model, accessor.bufferView, accessor.byteOffset,
-                                                  accessor.count, elementBytes, true, what);
+        const ElementRange range =
+            locateElements(model, accessor.bufferView, accessor.byteOffset, accessor.count, elementBytes, true, what);
         for (size_t i = 0; i < accessor.count; ++i) {
             const unsigned char* element = range.first + i * range.stride;
             for (int c = 0; c < components; ++c) {
-                out[i * size_t(components) + size_t(c)] = static_cast<T>(
-                    loadComponent(element + size_t(c) * bytesPerComponent, accessor.componentType,
-                                  accessor.normalized));
+                out[i * size_t(components) + size_t(c)] = static_cast<T>(loadComponent(
+                    element + size_t(c) * bytesPerComponent, accessor.componentType, accessor.normalized));
             }
         }
     } else if (!accessor.sparse.isSparse) {
@@ -174,9 +185,9 @@ std::vector<T> decodeAccessor(const tinygltf::Model& model, const tinygltf::Acce
         }
         const size_t element = size_t(target);
         for (int c = 0; c < components; ++c) {
-            out[element * size_t(components) + size_t(c)] = static_cast<T>(
-                loadComponent(values.first + s * values.stride + size_t(c) * bytesPerComponent,
-                              accessor.componentType, accessor.normalized));
+            out[element * size_t(components) + size_t(c)] =
+                static_cast<T>(loadComponent(values.first + s * values.stride + size_t(c) * bytesPerComponent,
+                                             accessor.componentType, accessor.normalized));
         }
     }
     return out;
@@ -212,8 +223,9 @@ std::vector<float> readFloatAccessor(const tinygltf::Model& model, int accessorI
     const std::string what = "accessor " + std::to_string(accessorIndex);
     const tinygltf::Accessor& accessor = checkedAccessor(model, accessorIndex, components, what);
     const int type = accessor.componentType;
-    const bool quantised = (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                            type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) && accessor.normalized;
+    const bool quantised =
+        (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) &&
+        accessor.normalized;
     if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !(allowNormalizedIntegers && quantised)) {
         throw InputError(what + ": componentType " + std::to_string(type) + " is not allowed here (" +
                          (allowNormalizedIntegers ? "float or normalized unsigned byte/short" : "float") +

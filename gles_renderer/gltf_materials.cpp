@@ -40,8 +40,7 @@ glm::vec<N, float> vectorFactor(const std::vector<double>& values, const glm::ve
 // Builds lumar textures on demand, one per (image, colour space) pair actually used.
 class TextureTable {
 public:
-    TextureTable(const tinygltf::Model& model, const std::string& fileForLog)
-        : model_(model), file_(fileForLog) {}
+    TextureTable(const tinygltf::Model& model, const std::string& fileForLog) : model_(model), file_(fileForLog) {}
 
     // Index into textures() for glTF texture `textureIndex` (-1: none), or -1 when the
     // texture has no usable image.
@@ -74,8 +73,8 @@ public:
         const tinygltf::Image& image = model_.images[size_t(imageIndex)];
         int index = -1;
         if (image.image.empty()) {
-            LUMAR_LOG(Render, Warn) << file_ << ": image " << imageIndex << " (" << image.uri
-                                    << ") was not loaded; " << what << " is ignored";
+            LUMAR_LOG(Render, Warn) << file_ << ": image " << imageIndex << " (" << image.uri << ") was not loaded; "
+                                    << what << " is ignored";
         } else {
             GltfTexture texture;
             try {
@@ -135,15 +134,15 @@ ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::str
         material.normalScale = float(finiteOr(source.normalTexture.scale, 1.0));
         material.doubleSided = source.doubleSided;
 
-        material.baseColorTexture = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                                     true, what + " baseColorTexture");
+        material.baseColorTexture = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, true,
+                                                     what + " baseColorTexture");
         material.metallicRoughnessTexture =
             textures.resolve(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, false,
                              what + " metallicRoughnessTexture");
-        material.normalTexture = textures.resolve(source.normalTexture.index, source.normalTexture.texCoord, false,
-                                                  what + " normalTexture");
-        material.emissiveTexture = textures.resolve(source.emissiveTexture.index, source.emissiveTexture.texCoord,
-                                                    true, what + " emissiveTexture");
+        material.normalTexture =
+            textures.resolve(source.normalTexture.index, source.normalTexture.texCoord, false, what + " normalTexture");
+        material.emissiveTexture = textures.resolve(source.emissiveTexture.index, source.emissiveTexture.texCoord, true,
+                                                    what + " emissiveTexture");
         out.materials.push_back(std::move(material));
     }
     out.textures = textures.take();

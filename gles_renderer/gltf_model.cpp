@@ -8,8 +8,8 @@
 #include <string>
 #include <utility>
 
-#include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -25,8 +25,7 @@ namespace {
 // (Draco, meshopt, basisu, texture transforms...) would make us draw the model wrongly.
 const char* const kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength"};
 
-template <typename Vec>
-std::vector<Vec> toVectors(const std::vector<float>& flat)
+template <typename Vec> std::vector<Vec> toVectors(const std::vector<float>& flat)
 {
     constexpr size_t n = sizeof(Vec) / sizeof(float);
     std::vector<Vec> out(flat.size() / n);
@@ -39,8 +38,8 @@ std::vector<Vec> toVectors(const std::vector<float>& flat)
 }
 
 // Reads an optional vertex attribute; empty when the primitive does not have it.
-std::vector<float> readAttribute(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
-                                 const char* name, int components, bool allowNormalizedIntegers, size_t vertexCount)
+std::vector<float> readAttribute(const tinygltf::Model& model, const tinygltf::Primitive& primitive, const char* name,
+                                 int components, bool allowNormalizedIntegers, size_t vertexCount)
 {
     const auto found = primitive.attributes.find(name);
     if (found == primitive.attributes.end()) {
@@ -77,7 +76,7 @@ std::vector<uint32_t> toTriangleList(const std::vector<uint32_t>& indices, int m
         if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
             const size_t odd = i % 2;
             triangles.insert(triangles.end(), {indices[i], indices[i + 1 + odd], indices[i + 2 - odd]});
-        } else {  // fan
+        } else { // fan
             triangles.insert(triangles.end(), {indices[i + 1], indices[i + 2], indices[0]});
         }
     }
@@ -135,8 +134,7 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
                                               const std::string& file, const std::string& what)
 {
     const int mode = source.mode < 0 ? TINYGLTF_MODE_TRIANGLES : source.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         LUMAR_LOG(Render, Warn) << file << ": " << what << " has mode " << mode
                                 << " (points or lines), skipped: only triangles are drawn";
         return std::nullopt;
@@ -158,8 +156,8 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
         indices = gltf::readIndexAccessor(model, source.indices);
         for (const uint32_t index : indices) {
             if (index >= vertexCount) {
-                throw InputError("index " + std::to_string(index) + " is out of range (" +
-                                 std::to_string(vertexCount) + " vertices)");
+                throw InputError("index " + std::to_string(index) + " is out of range (" + std::to_string(vertexCount) +
+                                 " vertices)");
             }
         }
     } else {
@@ -187,8 +185,8 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
     if (primitive.uvs.empty()) {
         primitive.uvs.assign(vertexCount, glm::vec2(0.0f));
     }
-    primitive.tangents = vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount), primitive,
-                                        file, what);
+    primitive.tangents =
+        vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount), primitive, file, what);
     return primitive;
 }
 
@@ -355,7 +353,8 @@ void checkRequiredExtensions(const tinygltf::Model& model)
 
 std::string oneLine(std::string text)
 {
-    std::replace_if(text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    std::replace_if(
+        text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
     return text;
 }
 

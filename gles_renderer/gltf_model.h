@@ -14,8 +14,8 @@
 namespace lumar {
 
 struct GltfTexture {
-    Image8 image;          // 4 channels RGBA, row 0 = top of the image (glTF's uv (0,0))
-    bool srgb = false;     // base colour and emissive are sRGB-encoded, the rest linear
+    Image8 image;      // 4 channels RGBA, row 0 = top of the image (glTF's uv (0,0))
+    bool srgb = false; // base colour and emissive are sRGB-encoded, the rest linear
 };
 
 struct GltfMaterial {
@@ -36,11 +36,11 @@ struct GltfMaterial {
 struct GltfPrimitive {
     glm::mat4 modelFromMesh{1.0f};
     std::vector<glm::vec3> positions;
-    std::vector<glm::vec3> normals;     // generated (flat/area-weighted) when absent
-    std::vector<glm::vec2> uvs;         // zeros when absent
-    std::vector<glm::vec4> tangents;    // generated from uvs when absent (w = handedness)
-    std::vector<uint32_t> indices;      // triangles
-    int material = -1;                  // -1: default material
+    std::vector<glm::vec3> normals;  // generated (flat/area-weighted) when absent
+    std::vector<glm::vec2> uvs;      // zeros when absent
+    std::vector<glm::vec4> tangents; // generated from uvs when absent (w = handedness)
+    std::vector<uint32_t> indices;   // triangles
+    int material = -1;               // -1: default material
 };
 
 struct GltfModel {
@@ -48,7 +48,7 @@ struct GltfModel {
     std::vector<GltfPrimitive> primitives;
     std::vector<GltfMaterial> materials;
     std::vector<GltfTexture> textures;
-    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // model space (after node transforms)
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space (after node transforms)
     [[nodiscard]] size_t triangleCount() const;
 };
 

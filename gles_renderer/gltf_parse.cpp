@@ -24,8 +24,8 @@ constexpr uint64_t kMaxFileBytes = uint64_t(1) << 30;
 // Larger textures than any GPU we target can sample; refused before stb allocates them.
 constexpr int kMaxImageSide = 16384;
 
-constexpr uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A; // "JSON"
 
 std::vector<unsigned char> readWholeFile(const std::filesystem::path& file)
 {
@@ -143,8 +143,7 @@ bool loadImageChecked(tinygltf::Image* image, const int imageIndex, std::string*
     }
     // tinygltf's own decoder (stb_image); its options struct is not in the public header, and
     // without one it expands every image to 4 components (8 or 16 bits), which suits us.
-    return tinygltf::LoadImageData(image, imageIndex, err, warn, requiredWidth, requiredHeight, bytes, size,
-                                   nullptr);
+    return tinygltf::LoadImageData(image, imageIndex, err, warn, requiredWidth, requiredHeight, bytes, size, nullptr);
 }
 
 std::string firstLine(std::string_view text)
@@ -201,7 +200,7 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
         const std::string reason = firstLine(err);
         throw InputError(reason.empty() ? std::string("not a valid glTF file") : reason);
     }
-    logLines(file, err);  // tinygltf reports some recoverable problems as errors and goes on
+    logLines(file, err); // tinygltf reports some recoverable problems as errors and goes on
     return model;
 }
 

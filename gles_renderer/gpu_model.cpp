@@ -42,12 +42,13 @@ void checkPrimitive(const GltfModel& model, size_t index)
     const size_t n = p.positions.size();
     if (p.normals.size() != n || p.uvs.size() != n || p.tangents.size() != n)
         throw InputError(where + ": " + std::to_string(n) + " positions but " + std::to_string(p.normals.size()) +
-                         " normals, " + std::to_string(p.uvs.size()) + " uvs, " +
-                         std::to_string(p.tangents.size()) + " tangents");
+                         " normals, " + std::to_string(p.uvs.size()) + " uvs, " + std::to_string(p.tangents.size()) +
+                         " tangents");
     if (n > size_t(std::numeric_limits<uint32_t>::max()))
         throw InputError(where + ": too many vertices");
     if (p.indices.size() % 3 != 0)
-        throw InputError(where + ": " + std::to_string(p.indices.size()) + " indices is not a whole number of triangles");
+        throw InputError(where + ": " + std::to_string(p.indices.size()) +
+                         " indices is not a whole number of triangles");
     if (p.indices.size() > size_t(std::numeric_limits<GLsizei>::max()))
         throw InputError(where + ": too many indices");
     for (const uint32_t i : p.indices)
@@ -61,12 +62,11 @@ void checkPrimitive(const GltfModel& model, size_t index)
 void checkTexture(const GltfModel& model, size_t index, GLint maxSize)
 {
     const Image8& image = model.textures[index].image;
-    if (image.channels != 4 || image.width < 1 || image.height < 1 || image.width > maxSize ||
-        image.height > maxSize || image.data.size() != size_t(image.width) * size_t(image.height) * 4)
-        throw InputError(describe(model) + ": texture " + std::to_string(index) + " is " +
-                         std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
-                         std::to_string(image.channels) + "; the renderer needs RGBA of at most " +
-                         std::to_string(maxSize) + " pixels a side");
+    if (image.channels != 4 || image.width < 1 || image.height < 1 || image.width > maxSize || image.height > maxSize ||
+        image.data.size() != size_t(image.width) * size_t(image.height) * 4)
+        throw InputError(describe(model) + ": texture " + std::to_string(index) + " is " + std::to_string(image.width) +
+                         "x" + std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                         "; the renderer needs RGBA of at most " + std::to_string(maxSize) + " pixels a side");
 }
 
 GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& textures,
@@ -123,8 +123,8 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, primitive.indices.name());
     if (vertices.size() <= 65536) {
         std::vector<uint16_t> shortIndices(p.indices.begin(), p.indices.end());
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(shortIndices.size() * sizeof(uint16_t)),
-                     shortIndices.data(), GL_STATIC_DRAW);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(shortIndices.size() * sizeof(uint16_t)), shortIndices.data(),
+                     GL_STATIC_DRAW);
         primitive.indexType = GL_UNSIGNED_SHORT;
     } else {
         glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(uint32_t)), p.indices.data(),

@@ -14,12 +14,12 @@ namespace lumar {
 
 // Stand-ins for absent material textures, shared by every model.
 struct DefaultTextures {
-    GlTexture white;       // base colour, metallic-roughness, emissive: the factor alone
-    GlTexture flatNormal;  // tangent-space +z
+    GlTexture white;      // base colour, metallic-roughness, emissive: the factor alone
+    GlTexture flatNormal; // tangent-space +z
 };
 
 struct GpuMaterial {
-    GlBuffer uniforms;  // a MaterialUniforms block
+    GlBuffer uniforms; // a MaterialUniforms block
     // Texture names, owned by the GpuModel or by DefaultTextures.
     GLuint baseColor = 0;
     GLuint metallicRoughness = 0;
@@ -30,17 +30,17 @@ struct GpuMaterial {
 
 struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};
-    GlBuffer vertices;  // interleaved position, normal, uv, tangent
+    GlBuffer vertices; // interleaved position, normal, uv, tangent
     GlBuffer indices;
     GlVertexArray vertexArray;
     GLsizei indexCount = 0;
     GLenum indexType = GL_UNSIGNED_INT;
-    size_t material = 0;  // index into GpuModel::materials
+    size_t material = 0; // index into GpuModel::materials
 };
 
 struct GpuModel {
-    std::vector<GlTexture> textures;  // parallel to GltfModel::textures; unused ones stay empty
-    std::vector<GpuMaterial> materials;  // the model's materials, then glTF's default material
+    std::vector<GlTexture> textures;    // parallel to GltfModel::textures; unused ones stay empty
+    std::vector<GpuMaterial> materials; // the model's materials, then glTF's default material
     std::vector<GpuPrimitive> primitives;
 };
 

@@ -14,8 +14,8 @@ GlTexture uploadMaterialTexture(const Image8& rgba, bool srgb)
 {
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, mipLevelCount(rgba.width, rgba.height), srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8,
-                   rgba.width, rgba.height);
+    glTexStorage2D(GL_TEXTURE_2D, mipLevelCount(rgba.width, rgba.height), srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, rgba.width,
+                   rgba.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, rgba.width, rgba.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data.data());
     glGenerateMipmap(GL_TEXTURE_2D);

@@ -52,7 +52,7 @@ public:
     }
 
 private:
-    int culling_ = -1;  // unknown at the start of a pass
+    int culling_ = -1; // unknown at the start of a pass
     GLenum frontFace_ = 0;
     std::array<GLuint, 8> textures_{};
     const GpuMaterial* material_ = nullptr;
@@ -102,7 +102,7 @@ void MeshPass::draw(const FrameUniforms& frame, GLuint environmentMap, const std
             const glm::dmat3 linear(cameraFromMesh);
             const double determinant = glm::determinant(linear);
             if (determinant == 0.0 || !std::isfinite(determinant))
-                continue;  // flattened to nothing: invisible
+                continue; // flattened to nothing: invisible
             // A mirroring transform turns the winding around (see clipFromCamera for CW).
             state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
             const glm::mat4 cameraFromMeshF(cameraFromMesh);

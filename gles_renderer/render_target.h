@@ -31,8 +31,8 @@ private:
     int width_;
     int height_;
     int samples_;
-    GlTexture colourTexture_;  // single-sampled
-    GlRenderbuffer colour_;    // multisampled
+    GlTexture colourTexture_; // single-sampled
+    GlRenderbuffer colour_;   // multisampled
     GlRenderbuffer depth_;
     GlFramebuffer drawFramebuffer_;
     // Only when multisampled.

@@ -16,8 +16,7 @@ uint8_t to8Bit(uint16_t v)
 
 } // namespace
 
-Image8 convertToRgba8(std::span<const uint8_t> pixels, int width, int height, int components,
-                      int bitsPerComponent)
+Image8 convertToRgba8(std::span<const uint8_t> pixels, int width, int height, int components, int bitsPerComponent)
 {
     if (width <= 0 || height <= 0) {
         throw InputError("invalid image size " + std::to_string(width) + "x" + std::to_string(height));

@@ -13,7 +13,6 @@ namespace lumar {
 // (native byte order) are rounded to the nearest 8-bit value. Throws InputError (a message
 // without a file name; the caller adds it) when the shape is invalid or `pixels` does not
 // hold exactly width * height * components samples.
-Image8 convertToRgba8(std::span<const uint8_t> pixels, int width, int height, int components,
-                      int bitsPerComponent);
+Image8 convertToRgba8(std::span<const uint8_t> pixels, int width, int height, int components, int bitsPerComponent);
 
 } // namespace lumar

@@ -1,7 +1,7 @@
 #include "gles_renderer/shader_program.h"
 
-#include <string>
 #include <algorithm>
+#include <string>
 
 #include "core/error.h"
 #include "embedded_shaders.h"

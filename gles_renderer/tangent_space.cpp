@@ -29,15 +29,13 @@ float cornerAngle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c)
 
 } // namespace
 
-std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> positions,
-                                             std::span<const uint32_t> indices)
+std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> positions, std::span<const uint32_t> indices)
 {
     std::vector<glm::vec3> sum(positions.size(), glm::vec3(0.0f));
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         const uint32_t i0 = indices[t], i1 = indices[t + 1], i2 = indices[t + 2];
         // The cross product's length is twice the triangle's area: that is the weighting.
-        const glm::vec3 faceNormal =
-            glm::cross(positions[i1] - positions[i0], positions[i2] - positions[i0]);
+        const glm::vec3 faceNormal = glm::cross(positions[i1] - positions[i0], positions[i2] - positions[i0]);
         sum[i0] += faceNormal;
         sum[i1] += faceNormal;
         sum[i2] += faceNormal;
@@ -49,10 +47,8 @@ std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> position
     return sum;
 }
 
-std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions,
-                                        std::span<const glm::vec3> normals,
-                                        std::span<const glm::vec2> uvs,
-                                        std::span<const uint32_t> indices)
+std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                        std::span<const glm::vec2> uvs, std::span<const uint32_t> indices)
 {
     std::vector<glm::vec3> alongU(positions.size(), glm::vec3(0.0f));
     std::vector<glm::vec3> upImage(positions.size(), glm::vec3(0.0f));
@@ -65,7 +61,7 @@ std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions,
         const glm::vec2 duv2 = uvs[corner[2]] - uvs[corner[0]];
         const float det = duv1.x * duv2.y - duv2.x * duv1.y;
         if (std::abs(det) < 1e-20f) {
-            continue;  // the uvs collapse this triangle: no direction to learn from it
+            continue; // the uvs collapse this triangle: no direction to learn from it
         }
         // Solve dp = dP/du * du + dP/dv * dv for the two edges.
         const glm::vec3 dPdu = (dp1 * duv2.y - dp2 * duv1.y) / det;
@@ -76,10 +72,10 @@ std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions,
             continue;
         }
         const glm::vec3 tangentDir = dPdu / lu;
-        const glm::vec3 imageUpDir = -dPdv / lv;  // glTF's v grows down the image
+        const glm::vec3 imageUpDir = -dPdv / lv; // glTF's v grows down the image
         for (int k = 0; k < 3; ++k) {
-            const float weight = cornerAngle(positions[corner[k]], positions[corner[(k + 1) % 3]],
-                                             positions[corner[(k + 2) % 3]]);
+            const float weight =
+                cornerAngle(positions[corner[k]], positions[corner[(k + 1) % 3]], positions[corner[(k + 2) % 3]]);
             alongU[corner[k]] += weight * tangentDir;
             upImage[corner[k]] += weight * imageUpDir;
         }

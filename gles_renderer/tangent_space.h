@@ -18,8 +18,7 @@ namespace lumar {
 // area) to its three vertices, so vertices shared across faces get a smooth normal and
 // unshared ones keep their face's flat normal. Vertices on no triangle (or only on
 // degenerate ones) get +Z. `indices` holds whole triangles, each index < positions.size().
-std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> positions,
-                                             std::span<const uint32_t> indices);
+std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> positions, std::span<const uint32_t> indices);
 
 // Tangents from the uv parametrisation: per triangle, the directions of +u and -v in
 // space are accumulated per vertex weighted by the corner angle (as MikkTSpace does),
@@ -27,9 +26,7 @@ std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> position
 // cross(N, T) agrees with the accumulated -v direction. Where the uvs give no
 // information (degenerate uv triangles) T is any unit vector orthogonal to N, w = +1.
 // `normals` must be unit length.
-std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions,
-                                        std::span<const glm::vec3> normals,
-                                        std::span<const glm::vec2> uvs,
-                                        std::span<const uint32_t> indices);
+std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                        std::span<const glm::vec2> uvs, std::span<const uint32_t> indices);
 
 } // namespace lumar

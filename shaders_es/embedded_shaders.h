@@ -8,7 +8,7 @@
 namespace lumar::shaders {
 
 struct Entry {
-    std::string_view name;  // file name, e.g. "mesh.frag"
+    std::string_view name; // file name, e.g. "mesh.frag"
     std::string_view text;
 };
 

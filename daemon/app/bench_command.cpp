@@ -17,7 +17,8 @@
 namespace lumar {
 namespace {
 
-constexpr const char* kHelp = R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--log-level SPEC]
+constexpr const char* kHelp =
+    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--log-level SPEC]
 
 Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
 whole pipeline without pacing or output, and prints frames per second, frame-time
@@ -103,9 +104,8 @@ int benchCommand(const Args& args)
                     measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), mean(captureMs),
                     mean(detectMs), mean(renderMs), mean(readbackMs), residentMegabytes());
     } else {
-        std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n",
-                    measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99),
-                    residentMegabytes());
+        std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n", measured,
+                    width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), residentMegabytes());
         std::printf("  %-9s %8s %8s %8s\n", "stage", "mean", "p50", "p99");
         const std::pair<const char*, const std::vector<double>*> stages[] = {
             {"capture", &captureMs}, {"detect", &detectMs}, {"render", &renderMs}, {"readback", &readbackMs}};

@@ -17,7 +17,7 @@ public:
 };
 
 struct OptionSpec {
-    std::string name;        // without the leading "--"
+    std::string name; // without the leading "--"
     bool takesValue = true;
     bool repeatable = false;
 };

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstring>
+
 #include <sys/inotify.h>
 
 #include "core/error.h"
@@ -25,7 +26,7 @@ bool ConfigWatcher::changed()
     for (;;) {
         const ssize_t n = ::read(inotify_.get(), buffer, sizeof buffer);
         if (n <= 0)
-            return ours;  // EAGAIN: nothing more pending
+            return ours; // EAGAIN: nothing more pending
         for (ssize_t offset = 0; offset + ssize_t(sizeof(inotify_event)) <= n;) {
             const auto* event = reinterpret_cast<const inotify_event*>(buffer + offset);
             // A plain create is followed by the close-after-write that matters; renames and

@@ -19,7 +19,8 @@ void appendf(std::string& s, const char* format, auto... values)
 
 } // namespace
 
-FrameTrace::FrameTrace(const std::filesystem::path& file) : file_(file), out_(std::fopen(file.c_str(), "w"), &std::fclose)
+FrameTrace::FrameTrace(const std::filesystem::path& file)
+    : file_(file), out_(std::fopen(file.c_str(), "w"), &std::fclose)
 {
     if (!out_)
         throw RuntimeError(file.string() + ": cannot write: " + std::strerror(errno));

@@ -13,7 +13,7 @@ namespace lumar {
 
 class FrameTrace {
 public:
-    explicit FrameTrace(const std::filesystem::path& file);  // throws RuntimeError
+    explicit FrameTrace(const std::filesystem::path& file); // throws RuntimeError
     void write(const FrameReport& report);
 
 private:

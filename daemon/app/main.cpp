@@ -32,12 +32,8 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
-    {"render", lumar::renderCommand},
-    {"run", lumar::runCommand},
-    {"check-config", lumar::checkConfigCommand},
-    {"detect", lumar::detectCommand},
-    {"bench", lumar::benchCommand},
-    {"probe", lumar::probeCommand},
+    {"render", lumar::renderCommand},       {"run", lumar::runCommand},     {"check-config", lumar::checkConfigCommand},
+    {"detect", lumar::detectCommand},       {"bench", lumar::benchCommand}, {"probe", lumar::probeCommand},
     {"calibrate", lumar::calibrateCommand},
 };
 

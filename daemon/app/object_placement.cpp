@@ -20,7 +20,7 @@ glm::dmat4 markerFromModel(const ObjectConfig& object, const glm::vec3& boundsMi
     m = glm::rotate(m, glm::radians(object.rotationDeg.z), glm::dvec3(0, 0, 1));
     m = glm::rotate(m, glm::radians(object.rotationDeg.y), glm::dvec3(0, 1, 0));
     m = glm::rotate(m, glm::radians(object.rotationDeg.x), glm::dvec3(1, 0, 0));
-    m = glm::rotate(m, glm::radians(90.0), glm::dvec3(1, 0, 0));  // model +Y -> marker +Z
+    m = glm::rotate(m, glm::radians(90.0), glm::dvec3(1, 0, 0)); // model +Y -> marker +Z
     m = glm::scale(m, glm::dvec3(scale));
     m = glm::translate(m, -anchor);
     return m;

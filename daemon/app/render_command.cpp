@@ -51,7 +51,7 @@ int renderCommand(const Args& args)
     writers.reserve(outputs.size());
     for (const std::string& out : outputs)
         writers.push_back(NumberedPngWriter::isPattern(out) ? std::make_unique<NumberedPngWriter>(out)
-                                                             : openFrameWriter(out, pipeline.fps()));
+                                                            : openFrameWriter(out, pipeline.fps()));
     std::optional<FrameTrace> trace;
     if (const auto file = cl.value("trace"))
         trace.emplace(*file);

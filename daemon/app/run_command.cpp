@@ -10,9 +10,9 @@
 #include <optional>
 #include <thread>
 
+#include "capture/reconnecting_source.h"
 #include "command_line.h"
 #include "commands.h"
-#include "capture/reconnecting_source.h"
 #include "config/config.h"
 #include "config_watcher.h"
 #include "core/error.h"
@@ -207,8 +207,8 @@ int runCommand(const Args& args)
         if (now - statusStart >= std::chrono::seconds(5)) {
             const double fps = framesSinceStatus / std::chrono::duration<double>(now - statusStart).count();
             char line[160];
-            std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", fps,
-                          withMarker, frames, report.objectsDrawn);
+            std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", fps, withMarker,
+                          frames, report.objectsDrawn);
             LUMAR_LOG(App, Info) << "status: " << line;
             notifier.status(line);
             framesSinceStatus = 0;

@@ -23,7 +23,7 @@ struct PlanarYCbCr {
     const uint8_t* y = nullptr;
     const uint8_t* cb = nullptr;
     const uint8_t* cr = nullptr;
-    bool fullRange = false;  // false: Y in [16, 235], Cb/Cr in [16, 240]
+    bool fullRange = false; // false: Y in [16, 235], Cb/Cr in [16, 240]
 };
 
 // BT.601 YCbCr → sRGB for pictures of one geometry: chroma planes of chromaWidth ×
@@ -53,7 +53,7 @@ private:
     int chromaHeight_;
     std::vector<Tap> columnTaps_;
     std::vector<Tap> rowTaps_;
-    std::vector<float> cbRow_;  // scratch: one vertically interpolated chroma row
+    std::vector<float> cbRow_; // scratch: one vertically interpolated chroma row
     std::vector<float> crRow_;
 };
 

@@ -37,8 +37,7 @@ constexpr int kChunkRays = kChunkPixels * kSamplesPerAxis;
 constexpr int kMaxDimension = 16384;
 // Floor shading levels out to the walls (see Impl::floorLevels).
 constexpr int kFloorLevels = 2048;
-constexpr float kFloorLevelsPerSquareMetre =
-    float(kFloorLevels) / (fake_scene::kRoomRadius * fake_scene::kRoomRadius);
+constexpr float kFloorLevelsPerSquareMetre = float(kFloorLevels) / (fake_scene::kRoomRadius * fake_scene::kRoomRadius);
 constexpr int kMinDimension = 16;
 // Bounds tag sizes and positions, metres: it bounds the camera's distance and so keeps
 // every coordinate the ray loops compute far inside float and int range.
@@ -47,7 +46,7 @@ constexpr float kHalfCells = 0.5f * kTag36h11TotalCells;
 
 // Where the rays of one chunk of one sub-row hit the table plane.
 struct RayChunk {
-    int32_t texelIndex[kChunkRays];  // −1: shade the ray in full
+    int32_t texelIndex[kChunkRays]; // −1: shade the ray in full
     float x[kChunkRays];
     float y[kChunkRays];
 };
@@ -56,7 +55,7 @@ struct RayChunk {
 struct TagSurface {
     float centreX = 0.0f;
     float centreY = 0.0f;
-    float halfOuter = 0.0f;  // half the side of the white frame's outer edge
+    float halfOuter = 0.0f; // half the side of the white frame's outer edge
     float cellsPerMetre = 0.0f;
     std::array<float, kTag36h11TotalCells * kTag36h11TotalCells> codeValues{};
 };
@@ -137,10 +136,7 @@ struct FakeCamera::Impl {
     uint64_t nextSequence = 0;
 
     explicit Impl(const CameraConfig& c)
-        : config(c),
-          intrinsics(defaultIntrinsics(c.width, c.height)),
-          trajectory(c.fakeTags),
-          table(c.seed),
+        : config(c), intrinsics(defaultIntrinsics(c.width, c.height)), trajectory(c.fakeTags), table(c.seed),
           noise(c.noiseSigma)
     {
         for (int level = 0; level < kFloorLevels; ++level) {
@@ -212,7 +208,7 @@ struct FakeCamera::Impl {
     // The colour seen along world-space ray direction d from `eye`. Always inlined: it runs
     // for every ray, 3.7 million times per 720p frame.
     [[nodiscard]] [[gnu::always_inline]] inline fake_scene::PackedRgb shade(const glm::vec3& eye, float dx, float dy,
-                                                                         float dz) const
+                                                                            float dz) const
     {
         using namespace fake_scene;
         if (dz >= 0.0f) {
@@ -277,8 +273,8 @@ struct FakeCamera::Impl {
         RayChunk chunks[kSamplesPerAxis];
         for (int x0 = 0; x0 < config.width; x0 += kChunkPixels) {
             for (int sy = 0; sy < kSamplesPerAxis; ++sy) {
-                locateTableRays(rays.eye, bases[sy], rays.stepU, float(x0) + kSampleOffsets[0],
-                                1.0f / kSamplesPerAxis, chunks[sy]);
+                locateTableRays(rays.eye, bases[sy], rays.stepU, float(x0) + kSampleOffsets[0], 1.0f / kSamplesPerAxis,
+                                chunks[sy]);
             }
             const int x1 = std::min(x0 + kChunkPixels, config.width);
             for (int x = x0; x < x1; ++x) {

@@ -27,7 +27,7 @@ public:
     explicit FakeCamera(const CameraConfig& config);
     ~FakeCamera() override;
 
-    bool next(Frame& frame) override;  // never ends
+    bool next(Frame& frame) override; // never ends
     [[nodiscard]] int width() const override;
     [[nodiscard]] int height() const override;
     [[nodiscard]] double fps() const override;

@@ -33,11 +33,11 @@ inline PackedRgb packRgb(const glm::vec3& v)
     return lane(v.x) | (lane(v.y) << kLaneBits) | (lane(v.z) << (2 * kLaneBits));
 }
 
-inline constexpr float kTableHalfSize = 0.6f;  // the 1.2 m × 1.2 m table-top, centred on 0
-inline constexpr float kFloorZ = -0.75f;       // the floor under the table
-inline constexpr float kRoomRadius = 3.5f;     // walls beyond this distance from the table
+inline constexpr float kTableHalfSize = 0.6f; // the 1.2 m × 1.2 m table-top, centred on 0
+inline constexpr float kFloorZ = -0.75f;      // the floor under the table
+inline constexpr float kRoomRadius = 3.5f;    // walls beyond this distance from the table
 
-inline constexpr float kInkBlack = 28.0f;      // tag print, code values before lighting
+inline constexpr float kInkBlack = 28.0f; // tag print, code values before lighting
 inline constexpr float kPaperWhite = 232.0f;
 
 // A soft lamp above the table's centre: 1 at the centre, about 0.85 at the table's corners.

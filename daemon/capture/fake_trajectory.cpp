@@ -45,8 +45,7 @@ Pose FakeTrajectory::cameraFromWorld(double seconds) const
 
     const glm::dvec3 centre(centre_, 0.0);
     const glm::dvec3 eye = centre + distance * glm::dvec3(std::cos(elevation) * std::cos(azimuth),
-                                                          std::cos(elevation) * std::sin(azimuth),
-                                                          std::sin(elevation));
+                                                          std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
     const glm::dvec3 target = centre + wander;
 
     // Camera axes in world coordinates (OpenCV: x right, y down, z forward). The elevation

@@ -75,12 +75,12 @@ ImageFolderSource::ImageFolderSource(const CameraConfig& config) : fps_(config.f
             height_ = h;
         } else if (w != width_ || h != height_) {
             throw InputError(file.string() + ": size " + std::to_string(w) + "x" + std::to_string(h) +
-                             " differs from " + files_.front().filename().string() + "'s " +
-                             std::to_string(width_) + "x" + std::to_string(height_));
+                             " differs from " + files_.front().filename().string() + "'s " + std::to_string(width_) +
+                             "x" + std::to_string(height_));
         }
     }
-    LUMAR_LOG(Capture, Info) << "image folder " << folder << ": " << files_.size() << " images of " << width_
-                             << "x" << height_ << " at " << fps_ << " fps";
+    LUMAR_LOG(Capture, Info) << "image folder " << folder << ": " << files_.size() << " images of " << width_ << "x"
+                             << height_ << " at " << fps_ << " fps";
 }
 
 bool ImageFolderSource::next(Frame& frame)

@@ -16,7 +16,7 @@ public:
     // the offending file.
     explicit ImageFolderSource(const CameraConfig& config);
 
-    bool next(Frame& frame) override;  // false after the last image unless config.loop
+    bool next(Frame& frame) override; // false after the last image unless config.loop
     [[nodiscard]] int width() const override { return width_; }
     [[nodiscard]] int height() const override { return height_; }
     [[nodiscard]] double fps() const override { return fps_; }

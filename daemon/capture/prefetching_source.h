@@ -44,7 +44,7 @@ private:
     std::exception_ptr slotError_;
     bool ended_ = false;
     bool stopping_ = false;
-    std::thread worker_;  // last member: starts after everything it uses exists
+    std::thread worker_; // last member: starts after everything it uses exists
 };
 
 } // namespace lumar

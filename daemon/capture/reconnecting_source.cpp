@@ -8,8 +8,8 @@
 namespace lumar {
 
 ReconnectingSource::ReconnectingSource(Opener open, std::string name, ReconnectPolicy policy)
-    : open_(std::move(open)), name_(std::move(name)), policy_(policy), source_(open_()),
-      width_(source_->width()), height_(source_->height()), fps_(source_->fps())
+    : open_(std::move(open)), name_(std::move(name)), policy_(policy), source_(open_()), width_(source_->width()),
+      height_(source_->height()), fps_(source_->fps())
 {
 }
 

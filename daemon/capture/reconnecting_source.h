@@ -51,8 +51,8 @@ private:
     std::unique_ptr<CaptureSource> source_;
     int width_ = 0, height_ = 0;
     double fps_ = 0;
-    uint64_t sequenceOffset_ = 0;  // added to the current device's own sequence numbers
-    uint64_t nextSequence_ = 0;    // one past the last sequence handed out
+    uint64_t sequenceOffset_ = 0; // added to the current device's own sequence numbers
+    uint64_t nextSequence_ = 0;   // one past the last sequence handed out
     std::chrono::milliseconds delay_{0};
     std::chrono::steady_clock::time_point nextAttempt_{};
     int reconnections_ = 0;

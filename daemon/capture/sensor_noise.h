@@ -16,7 +16,7 @@ class SensorNoise {
 public:
     static constexpr int kTableBits = 12;
 
-    explicit SensorNoise(double sigma);  // sigma in code values; 0 gives no noise
+    explicit SensorNoise(double sigma); // sigma in code values; 0 gives no noise
 
     [[nodiscard]] static SplitMix64 rowGenerator(uint64_t seed, uint64_t sequence, int row)
     {

@@ -20,8 +20,8 @@ float smoothstep(float edge0, float edge1, float x)
 class LatticeNoise {
 public:
     LatticeNoise(int cellsX, int cellsY, SplitMix64& rng)
-        : stride_(size_t(cellsX) + 1), values_(stride_ * (size_t(cellsY) + 1)),
-          columns_(axis(cellsX)), rows_(axis(cellsY))
+        : stride_(size_t(cellsX) + 1), values_(stride_ * (size_t(cellsY) + 1)), columns_(axis(cellsX)),
+          rows_(axis(cellsY))
     {
         for (float& v : values_) {
             v = float(2.0 * rng.uniform() - 1.0);
@@ -65,7 +65,7 @@ private:
 // in metres, sampled finely enough that a texel never skips a ring edge.
 class RingProfile {
 public:
-    static constexpr float kStart = -1.0f;  // wider than the table: the warp shifts lookups
+    static constexpr float kStart = -1.0f; // wider than the table: the warp shifts lookups
     static constexpr float kLength = 2.0f;
     static constexpr int kSamples = 32768;
 
@@ -103,7 +103,7 @@ private:
 
 TableTexture::TableTexture(uint64_t seed) : texels_(size_t(kResolution) * kResolution)
 {
-    SplitMix64 rng{splitMix64Hash(seed ^ 0x7461626c65ULL)};  // "table": independent of the noise stream
+    SplitMix64 rng{splitMix64Hash(seed ^ 0x7461626c65ULL)}; // "table": independent of the noise stream
     const RingProfile rings(rng);
     // Slow bends of the grain (about ±2 cm) and the plank's overall tint.
     const LatticeNoise warpCoarse(5, 4, rng);
@@ -126,7 +126,8 @@ TableTexture::TableTexture(uint64_t seed) : texels_(size_t(kResolution) * kResol
             const float fibre = fibres.at(tx, ty);
             const float mixDark = std::clamp(0.85f * grain + 0.12f * fibre + 0.08f * blotches.at(tx, ty), 0.0f, 1.0f);
             const float brightness = (1.0f + 0.07f * tint.at(tx, ty) + 0.03f * fibre) * fake_scene::tableLighting(x, y);
-            texels_[size_t(ty) * kResolution + size_t(tx)] = fake_scene::packRgb((early + mixDark * (late - early)) * brightness);
+            texels_[size_t(ty) * kResolution + size_t(tx)] =
+                fake_scene::packRgb((early + mixDark * (late - early)) * brightness);
         }
     }
 }

@@ -12,7 +12,7 @@ namespace lumar {
 
 class TableTexture {
 public:
-    static constexpr int kResolution = 2048;  // texels per side: 0.59 mm each
+    static constexpr int kResolution = 2048; // texels per side: 0.59 mm each
     static constexpr float kTexelsPerMetre = float(kResolution) / (2.0f * fake_scene::kTableHalfSize);
 
     explicit TableTexture(uint64_t seed);

@@ -48,8 +48,8 @@ TagPattern tag36h11Pattern(int id)
     }
     // Guard the layout this pattern assumes; a different libapriltag table would draw a
     // different tag than the detector's, which the fake camera must never do silently.
-    if (fam.total_width != kTag36h11TotalCells || fam.width_at_border != kTag36h11BorderCells ||
-        fam.reversed_border || fam.nbits > 64) {
+    if (fam.total_width != kTag36h11TotalCells || fam.width_at_border != kTag36h11BorderCells || fam.reversed_border ||
+        fam.nbits > 64) {
         throw RuntimeError("tag36h11: unexpected family layout in libapriltag");
     }
 

@@ -10,9 +10,9 @@ namespace lumar {
 // 10×10 cells: a white outer ring (row/column 0 and 9), the black border ring (1 and 8) and
 // the 6×6 data bits inside. Row 0 is the tag's top edge, column 0 its left edge.
 inline constexpr int kTag36h11TotalCells = 10;
-inline constexpr int kTag36h11BorderCells = 8;  // the black-bordered square, edge to edge
+inline constexpr int kTag36h11BorderCells = 8; // the black-bordered square, edge to edge
 
-using TagPattern = std::array<uint8_t, kTag36h11TotalCells * kTag36h11TotalCells>;  // 0 or 255
+using TagPattern = std::array<uint8_t, kTag36h11TotalCells * kTag36h11TotalCells>; // 0 or 255
 
 // How many ids the family has (587).
 int tag36h11CodeCount();

@@ -63,9 +63,12 @@ int Y4mHeader::chromaWidth() const
 {
     switch (chroma) {
     case Y4mChroma::Yuv420:
-    case Y4mChroma::Yuv422: return (width + 1) / 2;
-    case Y4mChroma::Yuv444: return width;
-    case Y4mChroma::Mono: return 0;
+    case Y4mChroma::Yuv422:
+        return (width + 1) / 2;
+    case Y4mChroma::Yuv444:
+        return width;
+    case Y4mChroma::Mono:
+        return 0;
     }
     return 0;
 }
@@ -73,10 +76,13 @@ int Y4mHeader::chromaWidth() const
 int Y4mHeader::chromaHeight() const
 {
     switch (chroma) {
-    case Y4mChroma::Yuv420: return (height + 1) / 2;
+    case Y4mChroma::Yuv420:
+        return (height + 1) / 2;
     case Y4mChroma::Yuv422:
-    case Y4mChroma::Yuv444: return height;
-    case Y4mChroma::Mono: return 0;
+    case Y4mChroma::Yuv444:
+        return height;
+    case Y4mChroma::Mono:
+        return 0;
     }
     return 0;
 }

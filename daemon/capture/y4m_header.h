@@ -15,12 +15,12 @@ enum class Y4mChroma { Yuv420, Yuv422, Yuv444, Mono };
 struct Y4mHeader {
     int width = 0;
     int height = 0;
-    int fpsNumerator = 0;    // 0 when the header has no F field
+    int fpsNumerator = 0; // 0 when the header has no F field
     int fpsDenominator = 0;
-    Y4mChroma chroma = Y4mChroma::Yuv420;  // C420jpeg when the header has no C field
-    bool fullRange = false;                // XCOLORRANGE=FULL; LIMITED is the default
+    Y4mChroma chroma = Y4mChroma::Yuv420; // C420jpeg when the header has no C field
+    bool fullRange = false;               // XCOLORRANGE=FULL; LIMITED is the default
 
-    [[nodiscard]] int chromaWidth() const;   // 0 for monochrome
+    [[nodiscard]] int chromaWidth() const; // 0 for monochrome
     [[nodiscard]] int chromaHeight() const;
     [[nodiscard]] size_t frameBytes() const; // all planes of one frame
 };

@@ -49,10 +49,7 @@ int64_t timestampNs(uint64_t sequence, double fps)
 } // namespace
 
 Y4mSource::Y4mSource(const CameraConfig& config)
-    : fileName_(config.path.string()),
-      file_(config.path, std::ios::binary),
-      header_(),
-      loop_(config.loop),
+    : fileName_(config.path.string()), file_(config.path, std::ios::binary), header_(), loop_(config.loop),
       converter_(0, 0, 0, 0)
 {
     if (!file_) {
@@ -84,15 +81,14 @@ Y4mSource::Y4mSource(const CameraConfig& config)
     }
     if (remaining < kFrameMagic.size() + 1 + header_.frameBytes()) {
         throw InputError(fileName_ + ": frame 0 is truncated (" + std::to_string(remaining) +
-                         " bytes after the header, a frame needs " +
-                         std::to_string(header_.frameBytes()) + " plus its FRAME line)");
+                         " bytes after the header, a frame needs " + std::to_string(header_.frameBytes()) +
+                         " plus its FRAME line)");
     }
 
     planes_.resize(header_.frameBytes());
     converter_ = YCbCrToRgb(header_.width, header_.height, header_.chromaWidth(), header_.chromaHeight());
-    LUMAR_LOG(Capture, Info) << "y4m " << fileName_ << ": " << header_.width << "x" << header_.height
-                             << " at " << fps_ << " fps, " << (header_.fullRange ? "full" : "limited")
-                             << " range";
+    LUMAR_LOG(Capture, Info) << "y4m " << fileName_ << ": " << header_.width << "x" << header_.height << " at " << fps_
+                             << " fps, " << (header_.fullRange ? "full" : "limited") << " range";
 }
 
 std::string Y4mSource::where() const
@@ -105,7 +101,7 @@ bool Y4mSource::readFrameMarker()
     std::string line;
     const bool complete = readLine(file_, line);
     if (!complete && line.empty() && file_.eof()) {
-        return false;  // a clean end: the previous frame was the last
+        return false; // a clean end: the previous frame was the last
     }
     if (line.rfind(kFrameMagic, 0) != 0 || (line.size() > kFrameMagic.size() && line[kFrameMagic.size()] != ' ')) {
         throw InputError(where() + ": missing FRAME marker");

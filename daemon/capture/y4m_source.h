@@ -20,7 +20,7 @@ public:
     // config.loop. Throws InputError "FILE: what is wrong".
     explicit Y4mSource(const CameraConfig& config);
 
-    bool next(Frame& frame) override;  // throws InputError for a malformed or truncated frame
+    bool next(Frame& frame) override; // throws InputError for a malformed or truncated frame
     [[nodiscard]] int width() const override { return header_.width; }
     [[nodiscard]] int height() const override { return header_.height; }
     [[nodiscard]] double fps() const override { return fps_; }
@@ -29,7 +29,7 @@ public:
 private:
     // Reads one "FRAME[ params]\n" line. Returns false at a clean end of file.
     bool readFrameMarker();
-    [[nodiscard]] std::string where() const;  // "FILE: frame N"
+    [[nodiscard]] std::string where() const; // "FILE: frame N"
 
     std::string fileName_;
     std::ifstream file_;
@@ -37,7 +37,7 @@ private:
     double fps_ = 0.0;
     bool loop_ = true;
     std::streampos firstFrame_;
-    uint64_t framesInFile_ = 0;  // frames read since the last (re)start of the file
+    uint64_t framesInFile_ = 0; // frames read since the last (re)start of the file
     uint64_t sequence_ = 0;
     std::vector<uint8_t> planes_;
     YCbCrToRgb converter_;

@@ -26,8 +26,7 @@ struct Context {
 };
 
 // Reads the elements of an array of tables, one TableReader each ("objects[2]").
-template <typename Fn>
-void forEachTable(TableReader& parent, std::string_view key, Fn&& fn)
+template <typename Fn> void forEachTable(TableReader& parent, std::string_view key, Fn&& fn)
 {
     const toml::array* array = parent.arrayOfTables(key);
     if (!array)

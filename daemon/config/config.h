@@ -16,24 +16,24 @@ namespace lumar {
 
 struct FakeTagConfig {
     int id = 0;
-    double size = 0.16;        // metres, black border to black border
-    glm::dvec2 position{0.0};  // centre on the fake table-top, metres
+    double size = 0.16;       // metres, black border to black border
+    glm::dvec2 position{0.0}; // centre on the fake table-top, metres
 };
 
 struct CameraConfig {
-    std::string source = "fake";         // "fake" | "y4m" | "images" | "v4l2"
-    std::filesystem::path path;           // y4m file or image folder (source y4m/images)
-    std::string device = "/dev/video0";   // source v4l2: the video device node
-    int timeoutMs = 2000;                 // source v4l2: no frame for this long is an error
-    int buffers = 4;                      // source v4l2: MMAP buffers requested
-    int width = 1280;                     // fake: the size; v4l2: the size requested; files: their own
+    std::string source = "fake";        // "fake" | "y4m" | "images" | "v4l2"
+    std::filesystem::path path;         // y4m file or image folder (source y4m/images)
+    std::string device = "/dev/video0"; // source v4l2: the video device node
+    int timeoutMs = 2000;               // source v4l2: no frame for this long is an error
+    int buffers = 4;                    // source v4l2: MMAP buffers requested
+    int width = 1280;                   // fake: the size; v4l2: the size requested; files: their own
     int height = 720;
     double fps = 30.0;
-    bool loop = true;                     // file sources: start again at the end
-    std::filesystem::path calibration;    // OpenCV FileStorage YAML; empty: ideal default
+    bool loop = true;                  // file sources: start again at the end
+    std::filesystem::path calibration; // OpenCV FileStorage YAML; empty: ideal default
     // Fake source scene.
     uint64_t seed = 1;
-    double noiseSigma = 2.0;              // sensor noise, code values
+    double noiseSigma = 2.0; // sensor noise, code values
     std::vector<FakeTagConfig> fakeTags{FakeTagConfig{}};
 };
 
@@ -44,37 +44,37 @@ struct TrackingConfig {
     bool refineEdges = true;
     double decodeSharpening = 0.25;
     int threads = 2;
-    bool roi = true;            // search near the last detections first (full frame as fallback)
-    int fullFrameEvery = 10;    // with roi: a full-frame search at least this often (new tags)
+    bool roi = true;         // search near the last detections first (full frame as fallback)
+    int fullFrameEvery = 10; // with roi: a full-frame search at least this often (new tags)
 };
 
 struct MarkerConfig {
     int id = 0;
-    double size = 0.16;  // metres, black border to black border
+    double size = 0.16; // metres, black border to black border
 };
 
 struct ObjectConfig {
     std::string name;
-    std::filesystem::path model;      // glTF 2.0 (.gltf or .glb)
-    int marker = 0;                   // id of the marker it sits on
-    glm::dvec3 offset{0.0};           // metres, marker frame
-    glm::dvec3 rotationDeg{0.0};      // XYZ Euler angles applied after the Y-up→Z-up turn
-    double scale = 1.0;               // uniform; or set `size` to fit the longest side
-    double size = 0.0;                // metres; > 0 overrides scale
+    std::filesystem::path model; // glTF 2.0 (.gltf or .glb)
+    int marker = 0;              // id of the marker it sits on
+    glm::dvec3 offset{0.0};      // metres, marker frame
+    glm::dvec3 rotationDeg{0.0}; // XYZ Euler angles applied after the Y-up→Z-up turn
+    double scale = 1.0;          // uniform; or set `size` to fit the longest side
+    double size = 0.0;           // metres; > 0 overrides scale
 };
 
 struct EnvironmentConfig {
-    std::filesystem::path hdr;        // equirectangular Radiance .hdr
+    std::filesystem::path hdr; // equirectangular Radiance .hdr
     double intensity = 1.0;
 };
 
 struct OutputConfig {
-    std::string sink = "headless";    // "headless" (files) | "none"
-    std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file
+    std::string sink = "headless"; // "headless" (files) | "none"
+    std::filesystem::path path;    // .png or .y4m for `lumar run`; empty: no file
 };
 
 struct Config {
-    std::filesystem::path sourceFile;  // empty for the built-in default
+    std::filesystem::path sourceFile; // empty for the built-in default
     std::string logLevel = "info";
     CameraConfig camera;
     TrackingConfig tracking;
@@ -89,8 +89,7 @@ struct Config {
 
 // Parses and validates TOML text. `fileName` is used in messages, relative paths resolve
 // against `baseDir`. Throws InputError.
-Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
-                   const std::filesystem::path& baseDir);
+Config parseConfig(std::string_view text, const std::filesystem::path& fileName, const std::filesystem::path& baseDir);
 
 // Reads and parses a file. Throws InputError (including "cannot read").
 Config loadConfig(const std::filesystem::path& file);

@@ -1,6 +1,7 @@
 // The built-in configuration (what `lumar render` and `lumar run` use without --config) and
 // the directory the shipped assets it names are found in.
 #include <cstdlib>
+
 #include <unistd.h>
 
 #include "config/config.h"

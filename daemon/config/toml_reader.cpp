@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -15,13 +15,20 @@ namespace {
 const char* typeName(const toml::node& node)
 {
     switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    default: return "a date/time";
+    case toml::node_type::string:
+        return "a string";
+    case toml::node_type::integer:
+        return "an integer";
+    case toml::node_type::floating_point:
+        return "a number";
+    case toml::node_type::boolean:
+        return "a boolean";
+    case toml::node_type::array:
+        return "an array";
+    case toml::node_type::table:
+        return "a table";
+    default:
+        return "a date/time";
     }
 }
 
@@ -74,7 +81,8 @@ void TableReader::integer(std::string_view key, int& out, long long min, long lo
         fail(node, key, std::string("expected an integer, found ") + typeName(*node));
     const long long value = v->get();
     if (value < min || value > max)
-        fail(node, key, std::to_string(value) + " is outside [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+        fail(node, key,
+             std::to_string(value) + " is outside [" + std::to_string(min) + ", " + std::to_string(max) + "]");
     out = int(value);
 }
 
@@ -107,8 +115,9 @@ void TableReader::number(std::string_view key, double& out, double min, double m
         fail(node, key, std::string("expected a number, found ") + typeName(*node));
     const bool below = minExclusive ? value <= min : value < min;
     if (!std::isfinite(value) || below || value > max)
-        fail(node, key, formatNumber(value) + " is outside " + (minExclusive ? "(" : "[") + formatNumber(min) + ", " +
-                            formatNumber(max) + "]");
+        fail(node, key,
+             formatNumber(value) + " is outside " + (minExclusive ? "(" : "[") + formatNumber(min) + ", " +
+                 formatNumber(max) + "]");
     out = value;
 }
 
@@ -155,10 +164,9 @@ void TableReader::numbers(std::string_view key, double* out, int count, double l
     const toml::node* node = find(key);
     if (!node)
         return;
-    const std::string expected = "expected an array of " + std::to_string(count) + " numbers" +
-                                 (std::isfinite(limit) ? " within [-" + formatNumber(limit) + ", " +
-                                                             formatNumber(limit) + "]"
-                                                       : std::string());
+    const std::string expected =
+        "expected an array of " + std::to_string(count) + " numbers" +
+        (std::isfinite(limit) ? " within [-" + formatNumber(limit) + ", " + formatNumber(limit) + "]" : std::string());
     const auto* array = node->as_array();
     if (!array || array->size() != size_t(count))
         fail(node, key, expected);
@@ -232,7 +240,8 @@ const toml::array* TableReader::arrayOfTables(std::string_view key)
         return nullptr;
     const auto* a = node->as_array();
     if (!a || !a->is_array_of_tables())
-        fail(node, key, std::string("expected an array of tables ([[") + keyName(key) + "]]), found " + typeName(*node));
+        fail(node, key,
+             std::string("expected an array of tables ([[") + keyName(key) + "]]), found " + typeName(*node));
     return a;
 }
 

@@ -8,8 +8,7 @@
 
 namespace lumar {
 
-template <typename T>
-struct Image {
+template <typename T> struct Image {
     int width = 0;
     int height = 0;
     int channels = 0;
@@ -34,7 +33,7 @@ struct Image {
     const T* at(int x, int y) const { return row(y) + size_t(x) * size_t(channels); }
 };
 
-using Image8 = Image<uint8_t>;   // sRGB-encoded colour (3 or 4 channels) or 8-bit luma (1)
-using ImageF = Image<float>;     // linear HDR radiance (3 channels)
+using Image8 = Image<uint8_t>; // sRGB-encoded colour (3 or 4 channels) or 8-bit luma (1)
+using ImageF = Image<float>;   // linear HDR radiance (3 channels)
 
 } // namespace lumar

@@ -26,11 +26,16 @@ std::mutex& registryMutex()
 const char* levelName(Level l)
 {
     switch (l) {
-    case Level::Debug: return "DEBUG";
-    case Level::Info: return "INFO";
-    case Level::Warn: return "WARN";
-    case Level::Error: return "ERROR";
-    case Level::Off: break;
+    case Level::Debug:
+        return "DEBUG";
+    case Level::Info:
+        return "INFO";
+    case Level::Warn:
+        return "WARN";
+    case Level::Error:
+        return "ERROR";
+    case Level::Off:
+        break;
     }
     return "?";
 }
@@ -64,9 +69,9 @@ Line::~Line()
 
 bool parseLevel(std::string_view text, Level& out)
 {
-    static constexpr std::pair<std::string_view, Level> names[] = {
-        {"debug", Level::Debug}, {"info", Level::Info}, {"warn", Level::Warn},
-        {"warning", Level::Warn}, {"error", Level::Error}, {"off", Level::Off}};
+    static constexpr std::pair<std::string_view, Level> names[] = {{"debug", Level::Debug}, {"info", Level::Info},
+                                                                   {"warn", Level::Warn},   {"warning", Level::Warn},
+                                                                   {"error", Level::Error}, {"off", Level::Off}};
     for (const auto& [name, level] : names) {
         if (equalsIgnoreCase(text, name)) {
             out = level;

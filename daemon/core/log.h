@@ -49,16 +49,16 @@ bool parseLevel(std::string_view text, Level& out);
 
 } // namespace lumar::log
 
-#define LUMAR_LOG_CATEGORY(Name)                                                                    \
-    namespace lumar::log::categories {                                                              \
-    inline ::lumar::log::Category Name{#Name};                                                      \
+#define LUMAR_LOG_CATEGORY(Name)                                                                                       \
+    namespace lumar::log::categories {                                                                                 \
+    inline ::lumar::log::Category Name{#Name};                                                                         \
     }
 
 // A one-pass loop rather than if/else, so that `if (x) LUMAR_LOG(...) << y;` has no dangling
 // else, and the stream expression is not evaluated when the level is off.
-#define LUMAR_LOG(Name, Lvl)                                                                        \
-    for (bool lumarLogOnce = ::lumar::log::categories::Name.enabled(::lumar::log::Level::Lvl);      \
-         lumarLogOnce; lumarLogOnce = false)                                                         \
+#define LUMAR_LOG(Name, Lvl)                                                                                           \
+    for (bool lumarLogOnce = ::lumar::log::categories::Name.enabled(::lumar::log::Level::Lvl); lumarLogOnce;           \
+         lumarLogOnce = false)                                                                                         \
     ::lumar::log::Line(::lumar::log::categories::Name, ::lumar::log::Level::Lvl).stream()
 
 // The categories of the whole program, declared once so every module shares them.

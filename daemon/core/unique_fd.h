@@ -1,8 +1,9 @@
 // A move-only owner of a POSIX file descriptor: closed exactly once, by the destructor.
 #pragma once
 
-#include <unistd.h>
 #include <utility>
+
+#include <unistd.h>
 
 namespace lumar {
 

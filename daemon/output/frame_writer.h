@@ -23,6 +23,6 @@ std::unique_ptr<FrameWriter> openFrameWriter(const std::filesystem::path& file, 
 
 // Single images. Throw RuntimeError / InputError naming the file.
 void writePng(const std::filesystem::path& file, const Image8& image);
-Image8 readImage(const std::filesystem::path& file, int channels);  // PNG/JPEG/..., sRGB 8-bit
+Image8 readImage(const std::filesystem::path& file, int channels); // PNG/JPEG/..., sRGB 8-bit
 
 } // namespace lumar

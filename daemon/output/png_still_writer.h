@@ -13,8 +13,8 @@ public:
     explicit PngStillWriter(std::filesystem::path file);
     ~PngStillWriter() override;
 
-    void write(const Image8& rgb) override;  // copies into a reused buffer
-    void finish() override;                  // writes the PNG; RuntimeError on failure
+    void write(const Image8& rgb) override; // copies into a reused buffer
+    void finish() override;                 // writes the PNG; RuntimeError on failure
 
 private:
     std::filesystem::path path_;

@@ -33,7 +33,7 @@ private:
     CFile file_;
     int width_ = 0;
     int height_ = 0;
-    std::vector<uint8_t> planes_;  // Y, Cb, Cr of one frame, reused
+    std::vector<uint8_t> planes_; // Y, Cb, Cr of one frame, reused
 };
 
 } // namespace lumar

@@ -39,7 +39,7 @@ TEST(BackgroundPass, CopiesARandomCameraImageBitExactly)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, 317, 203);
     expectBitExactCopy(renderer, 1);
-    expectBitExactCopy(renderer, 2);  // the persistent texture is updated, not stale
+    expectBitExactCopy(renderer, 2); // the persistent texture is updated, not stale
 }
 
 TEST(BackgroundPass, CopiesBitExactlyWithMultisampling)
@@ -52,8 +52,8 @@ TEST(BackgroundPass, PixelsAroundAModelAreUnchanged)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, 200, 150);
     const CameraIntrinsics k = test::makeIntrinsics(200, 150, 180, 180, 99.5, 74.5);
-    const ModelId quad = renderer.addModel(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f,
-                                                                        test::emissiveMaterial({1, 1, 1})));
+    const ModelId quad =
+        renderer.addModel(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, test::emissiveMaterial({1, 1, 1})));
     const Image8 camera = randomImage(200, 150, 4);
     const DrawItem item{quad, test::translation(0, 0, 1)};
     Image8 out;

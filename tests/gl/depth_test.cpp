@@ -14,8 +14,10 @@ TEST(Depth, TheNearerOfTwoOverlappingQuadsWinsInEitherDrawOrder)
     const CameraIntrinsics k = test::makeIntrinsics(w, h, 120, 120, 79.5, 59.5);
     // Red 1 m ahead over the left half-ish, green 2 m ahead over the right half-ish; they
     // overlap around the image centre.
-    const ModelId red = renderer.addModel(test::cameraFacingRectangle(-0.3f, -0.2f, 0.1f, 0.2f, test::emissiveMaterial({4, 0, 0})));
-    const ModelId green = renderer.addModel(test::cameraFacingRectangle(-0.2f, -0.4f, 0.8f, 0.4f, test::emissiveMaterial({0, 4, 0})));
+    const ModelId red =
+        renderer.addModel(test::cameraFacingRectangle(-0.3f, -0.2f, 0.1f, 0.2f, test::emissiveMaterial({4, 0, 0})));
+    const ModelId green =
+        renderer.addModel(test::cameraFacingRectangle(-0.2f, -0.4f, 0.8f, 0.4f, test::emissiveMaterial({0, 4, 0})));
     const DrawItem nearRed{red, test::translation(0, 0, 1)};
     const DrawItem farGreen{green, test::translation(0, 0, 2)};
     const Image8 background = test::solidImage(w, h, 0, 0, 255);

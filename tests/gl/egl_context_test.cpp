@@ -63,7 +63,7 @@ TEST(EglContext, MovedContextKeepsOwnership)
     }
     const EGLContext handle = context->handle();
     EglContext moved(std::move(*context));
-    context.reset();  // the moved-from shell must not destroy the context
+    context.reset(); // the moved-from shell must not destroy the context
     EXPECT_EQ(moved.handle(), handle);
     moved.makeCurrent();
     EXPECT_FALSE(glVersion().empty());

@@ -35,10 +35,10 @@ inline RendererOrReason tryCreateRenderer(int width, int height, RenderOptions o
     }
 }
 
-#define LUMAR_RENDERER_OR_SKIP(variable, ...)                                                       \
-    auto variable##OrReason = ::lumar::test::tryCreateRenderer(__VA_ARGS__);                        \
-    if (!variable##OrReason.renderer)                                                               \
-        GTEST_SKIP() << "no GLES 3 renderer: " << variable##OrReason.reason;                        \
+#define LUMAR_RENDERER_OR_SKIP(variable, ...)                                                                          \
+    auto variable##OrReason = ::lumar::test::tryCreateRenderer(__VA_ARGS__);                                           \
+    if (!variable##OrReason.renderer)                                                                                  \
+        GTEST_SKIP() << "no GLES 3 renderer: " << variable##OrReason.reason;                                           \
     SceneRenderer& variable = *variable##OrReason.renderer
 
 inline CameraIntrinsics makeIntrinsics(int width, int height, double fx, double fy, double cx, double cy)
@@ -108,8 +108,7 @@ inline GltfModel makeQuad(const std::array<glm::vec3, 4>& c, const GltfMaterial&
 // as the camera sees them.
 inline GltfModel cameraFacingRectangle(float x0, float y0, float x1, float y1, const GltfMaterial& material)
 {
-    return makeQuad({glm::vec3(x0, y0, 0), glm::vec3(x0, y1, 0), glm::vec3(x1, y1, 0), glm::vec3(x1, y0, 0)},
-                    material);
+    return makeQuad({glm::vec3(x0, y0, 0), glm::vec3(x0, y1, 0), glm::vec3(x1, y1, 0), glm::vec3(x1, y0, 0)}, material);
 }
 
 inline glm::dmat4 translation(double x, double y, double z)
@@ -139,7 +138,10 @@ inline double srgbDecode(double encoded)
 }
 
 // The 8-bit code value the renderer should write for linear radiance `radiance`.
-inline int toneMappedCode(double radiance) { return int(std::lround(255.0 * srgbEncode(acesFilmic(radiance)))); }
+inline int toneMappedCode(double radiance)
+{
+    return int(std::lround(255.0 * srgbEncode(acesFilmic(radiance))));
+}
 
 // Karis 2014, "Physically Based Shading on Mobile": the environment BRDF's scale and bias
 // for F0, as a function of roughness and n.v.

@@ -17,7 +17,8 @@ constexpr int kWidth = 1280, kHeight = 720;
 
 TEST(MilkTruck, RendersInsideItsProjectedBoundsAndReportsFrameTime)
 {
-    const std::filesystem::path file = std::filesystem::path(LUMAR_SOURCE_DIR) / "daemon/assets/models/CesiumMilkTruck.glb";
+    const std::filesystem::path file =
+        std::filesystem::path(LUMAR_SOURCE_DIR) / "daemon/assets/models/CesiumMilkTruck.glb";
     const GltfModel truck = loadGltfModel(file);
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
     renderer.setEnvironment(test::uniformEnvironment(0.8f), 1.0f);
@@ -68,7 +69,8 @@ TEST(MilkTruck, RendersInsideItsProjectedBoundsAndReportsFrameTime)
         renderer.render(background, k, {&item, 1});
         renderer.readback(out);
     }
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
     RecordProperty("render_readback_ms_per_frame", std::to_string(ms));
     std::printf("CesiumMilkTruck %dx%d (%zu triangles): %.2f ms per frame, render + readback\n", kWidth, kHeight,
                 truck.triangleCount(), ms);

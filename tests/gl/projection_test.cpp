@@ -47,12 +47,12 @@ TEST(Projection, RectangleCoversExactlyThePixelCentresInsideItsProjection)
     const CameraIntrinsics k = test::makeIntrinsics(kWidth, kHeight, 300.0, 280.0, 157.3, 118.6);
     const double z = 2.0;
     const double u0 = 100.3, u1 = 220.7, v0 = 50.2, v1 = 180.6;
-    const glm::dvec3 offset(0.05, -0.03, z);  // cameraFromModel translation
+    const glm::dvec3 offset(0.05, -0.03, z); // cameraFromModel translation
     const auto xAt = [&](double u) { return float((u - k.cx) * z / k.fx - offset.x); };
     const auto yAt = [&](double v) { return float((v - k.cy) * z / k.fy - offset.y); };
-    const Image8 out = scene.draw(test::cameraFacingRectangle(xAt(u0), yAt(v0), xAt(u1), yAt(v1),
-                                                              test::emissiveMaterial({1, 1, 1})),
-                                  test::translation(offset.x, offset.y, offset.z), k);
+    const Image8 out =
+        scene.draw(test::cameraFacingRectangle(xAt(u0), yAt(v0), xAt(u1), yAt(v1), test::emissiveMaterial({1, 1, 1})),
+                   test::translation(offset.x, offset.y, offset.z), k);
     int wrong = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
@@ -79,7 +79,8 @@ TEST(Projection, TiltedQuadCentroidMatchesThePinholeProjection)
     // Expected: shoelace area and centroid of the projected corners.
     glm::dvec2 corners[4];
     for (int i = 0; i < 4; ++i)
-        corners[i] = k.project(glm::dvec3(cameraFromModel * glm::dvec4(glm::dvec3(quad.primitives[0].positions[size_t(i)]), 1.0)));
+        corners[i] = k.project(
+            glm::dvec3(cameraFromModel * glm::dvec4(glm::dvec3(quad.primitives[0].positions[size_t(i)]), 1.0)));
     double area = 0;
     glm::dvec2 centroid(0.0);
     for (int i = 0; i < 4; ++i) {
@@ -120,10 +121,14 @@ TEST(Projection, BackFacesAreCulledUnlessDoubleSidedAndMirroringKeepsFrontFaces)
     const glm::dmat4 turned = glm::rotate(ahead, glm::radians(180.0), glm::dvec3(0, 1, 0));
     const glm::dmat4 mirrored = glm::scale(ahead, glm::dvec3(-1, 1, 1));
 
-    EXPECT_TRUE(covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), ahead, k), 160, 120));
-    EXPECT_FALSE(covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), turned, k), 160, 120));
-    EXPECT_TRUE(covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, doubleSided), turned, k), 160, 120));
-    EXPECT_TRUE(covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), mirrored, k), 160, 120));
+    EXPECT_TRUE(
+        covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), ahead, k), 160, 120));
+    EXPECT_FALSE(
+        covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), turned, k), 160, 120));
+    EXPECT_TRUE(
+        covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, doubleSided), turned, k), 160, 120));
+    EXPECT_TRUE(
+        covered(scene.draw(test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, singleSided), mirrored, k), 160, 120));
 }
 
 // Geometry behind the near plane (0.01 m) or beyond the far plane (100 m) is clipped.
@@ -132,7 +137,8 @@ TEST(Projection, ClipsAtTheNearAndFarPlanes)
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
     Scene scene(renderer);
     const CameraIntrinsics k = test::makeIntrinsics(kWidth, kHeight, 250, 250, 159.5, 119.5);
-    const GltfModel quad = test::cameraFacingRectangle(-0.001f, -0.001f, 0.001f, 0.001f, test::emissiveMaterial({1, 1, 1}));
+    const GltfModel quad =
+        test::cameraFacingRectangle(-0.001f, -0.001f, 0.001f, 0.001f, test::emissiveMaterial({1, 1, 1}));
     EXPECT_TRUE(covered(scene.draw(quad, test::translation(0, 0, 0.011), k), 160, 120));
     EXPECT_FALSE(covered(scene.draw(quad, test::translation(0, 0, 0.009), k), 160, 120));
     const GltfModel big = test::cameraFacingRectangle(-10, -10, 10, 10, test::emissiveMaterial({1, 1, 1}));

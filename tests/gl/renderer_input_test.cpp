@@ -8,8 +8,7 @@ namespace {
 
 constexpr int kWidth = 64, kHeight = 48;
 
-template <typename F>
-std::string inputErrorOf(F&& f)
+template <typename F> std::string inputErrorOf(F&& f)
 {
     try {
         f();
@@ -19,7 +18,10 @@ std::string inputErrorOf(F&& f)
     return "(no InputError)";
 }
 
-GltfModel validQuad() { return test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, test::emissiveMaterial({1, 1, 1})); }
+GltfModel validQuad()
+{
+    return test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, test::emissiveMaterial({1, 1, 1}));
+}
 
 TEST(RendererInput, RejectsMalformedModelsNamingTheFile)
 {
@@ -43,7 +45,7 @@ TEST(RendererInput, RejectsMalformedModelsNamingTheFile)
     EXPECT_NE(inputErrorOf([&] { renderer.addModel(model); }).find("material 3"), std::string::npos);
 
     model = validQuad();
-    model.materials[0].normalTexture = 0;  // no textures at all
+    model.materials[0].normalTexture = 0; // no textures at all
     EXPECT_NE(inputErrorOf([&] { renderer.addModel(model); }).find("refers to texture 0"), std::string::npos);
 
     model = validQuad();
@@ -59,8 +61,9 @@ TEST(RendererInput, RejectsAMismatchedFrameOrUnknownModel)
     const Image8 background(kWidth, kHeight, 3);
     EXPECT_NE(inputErrorOf([&] { renderer.render(Image8(kWidth, kHeight - 1, 3), k, {}); }).find("background image"),
               std::string::npos);
-    EXPECT_NE(inputErrorOf([&] { renderer.render(background, defaultIntrinsics(kWidth * 2, kHeight), {}); })
-                  .find("camera intrinsics"),
+    EXPECT_NE(inputErrorOf([&] {
+                  renderer.render(background, defaultIntrinsics(kWidth * 2, kHeight), {});
+              }).find("camera intrinsics"),
               std::string::npos);
     const DrawItem unknown{0, glm::dmat4(1.0)};
     EXPECT_NE(inputErrorOf([&] { renderer.render(background, k, {&unknown, 1}); }).find("model 0"), std::string::npos);
@@ -85,7 +88,7 @@ TEST(RendererInput, ModelWithoutMaterialsOrPrimitivesIsAccepted)
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
     GltfModel model = validQuad();
     model.materials.clear();
-    model.primitives[0].material = -1;  // glTF's default material
+    model.primitives[0].material = -1; // glTF's default material
     EXPECT_NO_THROW(renderer.addModel(model));
     EXPECT_NO_THROW(renderer.addModel(GltfModel{}));
 }

@@ -14,7 +14,7 @@ namespace {
 
 constexpr int kWidth = 96;
 constexpr int kHeight = 72;
-constexpr int kTolerance = 2;  // code values
+constexpr int kTolerance = 2; // code values
 
 // The plane's centre pixel: the principal point, where the view direction is the optical axis.
 constexpr int kPx = 47, kPy = 35;
@@ -46,7 +46,10 @@ glm::ivec3 planeColour(SceneRenderer& renderer, const GltfModel& plane)
     return {p[0], p[1], p[2]};
 }
 
-GltfModel plane(const GltfMaterial& material) { return test::cameraFacingRectangle(-0.2f, -0.2f, 0.2f, 0.2f, material); }
+GltfModel plane(const GltfMaterial& material)
+{
+    return test::cameraFacingRectangle(-0.2f, -0.2f, 0.2f, 0.2f, material);
+}
 
 void expectColour(const glm::ivec3& actual, const glm::dvec3& radiance)
 {
@@ -56,8 +59,7 @@ void expectColour(const glm::ivec3& actual, const glm::dvec3& radiance)
 }
 
 // An equirectangular map of radiance(direction), directions per environment_map.h.
-template <typename F>
-ImageF equirectOf(int width, int height, F radiance)
+template <typename F> ImageF equirectOf(int width, int height, F radiance)
 {
     ImageF map(width, height, 3);
     for (int y = 0; y < height; ++y)
@@ -165,9 +167,9 @@ TEST(Shading, DiffuseIrradianceFollowsTheEnvironmentAndItsRotation)
     const glm::dmat4 identity(1.0);
     const glm::dmat3 rotations[] = {
         glm::dmat3(1.0),
-        glm::dmat3(glm::rotate(identity, glm::radians(-90.0), glm::dvec3(1, 0, 0))),  // faces up (+y)
-        glm::dmat3(glm::rotate(identity, glm::radians(90.0), glm::dvec3(0, 1, 0))),   // faces +x
-        glm::dmat3(glm::rotate(identity, glm::radians(135.0), glm::dvec3(1, 0, 0))),  // faces +y+z
+        glm::dmat3(glm::rotate(identity, glm::radians(-90.0), glm::dvec3(1, 0, 0))), // faces up (+y)
+        glm::dmat3(glm::rotate(identity, glm::radians(90.0), glm::dvec3(0, 1, 0))),  // faces +x
+        glm::dmat3(glm::rotate(identity, glm::radians(135.0), glm::dvec3(1, 0, 0))), // faces +y+z
         glm::dmat3(glm::rotate(identity, glm::radians(70.0), glm::normalize(glm::dvec3(1, 2, 0.5)))),
     };
     for (const glm::dmat3& environmentFromCamera : rotations) {
@@ -207,15 +209,14 @@ TEST(Shading, NormalMapTurnsTheShadingNormal)
     const glm::dvec3 t(1, 0, 0), b(0, -1, 0), n(0, 0, -1);
     const glm::dvec3 shadingNormal = glm::normalize(t * tangentNormal.x + b * tangentNormal.y + n * tangentNormal.z);
     const double nDotV = glm::dot(shadingNormal, glm::dvec3(0, 0, -1));
-    expectColour(planeColour(renderer, model),
-                 roughWhiteRadiance(sky, environmentFromCamera * shadingNormal, nDotV));
+    expectColour(planeColour(renderer, model), roughWhiteRadiance(sky, environmentFromCamera * shadingNormal, nDotV));
 
     // Mirrored uvs (handedness -1) turn B around.
     for (glm::vec4& tangent : model.primitives[0].tangents)
         tangent.w = -1.0f;
     const glm::dvec3 mirroredNormal = glm::normalize(t * tangentNormal.x - b * tangentNormal.y + n * tangentNormal.z);
-    expectColour(planeColour(renderer, model),
-                 roughWhiteRadiance(sky, environmentFromCamera * mirroredNormal, glm::dot(mirroredNormal, glm::dvec3(0, 0, -1))));
+    expectColour(planeColour(renderer, model), roughWhiteRadiance(sky, environmentFromCamera * mirroredNormal,
+                                                                  glm::dot(mirroredNormal, glm::dvec3(0, 0, -1))));
 }
 
 // A smooth metal plane facing the camera mirrors the view ray straight back: at the principal

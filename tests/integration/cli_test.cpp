@@ -20,8 +20,11 @@ std::string sceneWith(const std::string& model, const std::string& hdr)
 {
     return "[camera]\nwidth = 320\nheight = 240\n[[camera.fake_tags]]\nid = 0\nsize = 0.16\nposition = [0.0, 0.0]\n"
            "[[markers]]\nid = 0\nsize = 0.16\n"
-           "[[objects]]\nmodel = \"" + model + "\"\nmarker = 0\nsize = 0.1\n"
-           "[environment]\nhdr = \"" + hdr + "\"\n";
+           "[[objects]]\nmodel = \"" +
+           model +
+           "\"\nmarker = 0\nsize = 0.1\n"
+           "[environment]\nhdr = \"" +
+           hdr + "\"\n";
 }
 
 size_t lineCount(const std::string& s)
@@ -68,7 +71,7 @@ TEST(Cli, CheckConfigReportsFileAndLine)
 
 struct BadInputCase {
     const char* name;
-    std::string mentions;  // what the one-line error must name
+    std::string mentions; // what the one-line error must name
 };
 
 class RenderBadInput : public ::testing::Test {
@@ -165,9 +168,9 @@ TEST(Cli, CalibrateWritesAYamlThatLoads)
     EXPECT_NE(r.out.find("left01.jpg"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
     // The written calibration is usable by the other commands.
-    const auto check = runLumar({"detect", "--tag-size", "0.1", "--calib", out.string(),
-                                 kSource + "/tests/data/calib/chessboard/left01.jpg"},
-                                dir);
+    const auto check = runLumar(
+        {"detect", "--tag-size", "0.1", "--calib", out.string(), kSource + "/tests/data/calib/chessboard/left01.jpg"},
+        dir);
     EXPECT_EQ(check.exitCode, 0) << check.err;
     const auto bad = runLumar({"calibrate", "--images", dir.string(), "--board", "9x6", "--square", "0.025", "--out",
                                (dir / "x.yaml").string()},

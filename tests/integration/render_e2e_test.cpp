@@ -16,7 +16,7 @@ namespace lumar {
 namespace {
 
 constexpr int kFrames = 30;
-constexpr double kBoxSize = 0.06;  // metres, the object's longest side on the marker
+constexpr double kBoxSize = 0.06; // metres, the object's longest side on the marker
 
 std::string sceneToml()
 {
@@ -24,9 +24,14 @@ std::string sceneToml()
     return "[camera]\nsource = \"fake\"\nwidth = 1280\nheight = 720\nseed = 7\n"
            "[[camera.fake_tags]]\nid = 0\nsize = 0.16\nposition = [0.0, 0.0]\n"
            "[[markers]]\nid = 0\nsize = 0.16\n"
-           "[[objects]]\nname = \"box\"\nmodel = \"" + source + "/tests/data/models/BoxTextured.glb\"\nmarker = 0\n"
-           "size = " + std::to_string(kBoxSize) + "\n"
-           "[environment]\nhdr = \"" + source + "/daemon/assets/env/venice_sunset_1k.hdr\"\n";
+           "[[objects]]\nname = \"box\"\nmodel = \"" +
+           source +
+           "/tests/data/models/BoxTextured.glb\"\nmarker = 0\n"
+           "size = " +
+           std::to_string(kBoxSize) +
+           "\n"
+           "[environment]\nhdr = \"" +
+           source + "/daemon/assets/env/venice_sunset_1k.hdr\"\n";
 }
 
 double rotationErrorDeg(const glm::dmat3& a, const glm::dmat3& b)
@@ -51,10 +56,10 @@ protected:
     {
         dir_ = test::scratchDirectory("render-e2e");
         std::ofstream(dir_ / "scene.toml") << sceneToml();
-        result_ = test::runLumar({"render", "--config", (dir_ / "scene.toml").string(), "--frames",
-                                  std::to_string(kFrames), "--out", (dir_ / "frame_%03d.png").string(), "--trace",
-                                  (dir_ / "trace.jsonl").string()},
-                                 dir_);
+        result_ =
+            test::runLumar({"render", "--config", (dir_ / "scene.toml").string(), "--frames", std::to_string(kFrames),
+                            "--out", (dir_ / "frame_%03d.png").string(), "--trace", (dir_ / "trace.jsonl").string()},
+                           dir_);
     }
     static std::filesystem::path dir_;
     static test::ProcessResult result_;
@@ -87,10 +92,11 @@ TEST_F(RenderEndToEnd, DetectsTheMarkerWithAccuratePose)
                 continue;
             ++detected;
             const TagGroundTruth truth = camera.groundTruth(sequence).at(0);
-            worstRotationDeg = std::max(worstRotationDeg, rotationErrorDeg(jsonMatrix(d["R"]), truth.cameraFromMarker.R));
+            worstRotationDeg =
+                std::max(worstRotationDeg, rotationErrorDeg(jsonMatrix(d["R"]), truth.cameraFromMarker.R));
             const glm::dvec3 t(d["t"][0].get<double>(), d["t"][1].get<double>(), d["t"][2].get<double>());
-            worstTranslationPct = std::max(
-                worstTranslationPct, 100.0 * glm::length(t - truth.cameraFromMarker.t) / glm::length(truth.cameraFromMarker.t));
+            worstTranslationPct = std::max(worstTranslationPct, 100.0 * glm::length(t - truth.cameraFromMarker.t) /
+                                                                    glm::length(truth.cameraFromMarker.t));
         }
     }
     EXPECT_EQ(frames, kFrames);
@@ -101,8 +107,8 @@ TEST_F(RenderEndToEnd, DetectsTheMarkerWithAccuratePose)
     EXPECT_LT(worstTranslationPct, 1.0);
     RecordProperty("worst_rotation_error_deg", std::to_string(worstRotationDeg));
     RecordProperty("worst_translation_error_pct", std::to_string(worstTranslationPct));
-    std::printf("pose error over %d frames: rotation <= %.3f deg, translation <= %.3f %%\n", detected,
-                worstRotationDeg, worstTranslationPct);
+    std::printf("pose error over %d frames: rotation <= %.3f deg, translation <= %.3f %%\n", detected, worstRotationDeg,
+                worstTranslationPct);
 }
 
 TEST_F(RenderEndToEnd, ModelAppearsWhereGroundTruthPutsIt)

@@ -1,15 +1,15 @@
 // `lumar run` as a service manager drives it: started, left running, stopped by SIGTERM or
 // SIGINT; it must exit 0 with its output complete (every Y4M frame whole).
 #include <csignal>
-#include <fcntl.h>
 #include <fstream>
+#include <thread>
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
-#include <thread>
-
-#include <gtest/gtest.h>
 
 #include "run_lumar.h"
 
@@ -19,7 +19,7 @@ namespace lumar {
 namespace {
 
 constexpr int kWidth = 320, kHeight = 240;
-constexpr size_t kY4mFrameBytes = 6 + size_t(kWidth) * kHeight * 3 / 2;  // "FRAME\n" + 4:2:0 planes
+constexpr size_t kY4mFrameBytes = 6 + size_t(kWidth) * kHeight * 3 / 2; // "FRAME\n" + 4:2:0 planes
 
 // Starts lumar with stdout/stderr redirected to a file and `extraEnvironment` ("NAME=value")
 // added; returns its pid.

@@ -1,7 +1,5 @@
 // The real detector on the fake camera's frames: it must find every tag with the right id
 // and put its corners where the ground truth projects them.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -10,6 +8,7 @@
 #include <apriltag/apriltag.h>
 #include <apriltag/common/zarray.h>
 #include <apriltag/tag36h11.h>
+#include <gtest/gtest.h>
 
 #include "capture/fake_camera.h"
 
@@ -31,7 +30,7 @@ public:
     Detector() : family_(tag36h11_create()), detector_(apriltag_detector_create())
     {
         apriltag_detector_add_family(detector_.get(), family_.get());
-        detector_->quad_decimate = 1.0f;  // full resolution: this test is about accuracy
+        detector_->quad_decimate = 1.0f; // full resolution: this test is about accuracy
         detector_->quad_sigma = 0.0f;
         detector_->refine_edges = true;
         detector_->nthreads = 2;
@@ -75,7 +74,8 @@ double checkRoundTrip(const CameraConfig& config, std::initializer_list<uint64_t
             EXPECT_EQ(detection->hamming, 0);
             const auto corners = tagCornersInMarkerFrame(truth->size);
             for (int c = 0; c < 4; ++c) {
-                const glm::dvec2 expected = camera.intrinsics().project(truth->cameraFromMarker.apply(corners[size_t(c)]));
+                const glm::dvec2 expected =
+                    camera.intrinsics().project(truth->cameraFromMarker.apply(corners[size_t(c)]));
                 // The library's pixel (0,0) covers [0,1]², ours [-0.5,0.5]².
                 const glm::dvec2 detected(detection->p[c][0] - 0.5, detection->p[c][1] - 0.5);
                 const double error = glm::length(detected - expected);

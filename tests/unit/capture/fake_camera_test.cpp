@@ -1,12 +1,12 @@
 // The fake camera: deterministic frames, ground truth that matches the pixels, tags always
 // in view, and a noise model with the configured statistics.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "capture/fake_camera.h"
 #include "core/error.h"
@@ -90,7 +90,7 @@ TEST(FakeCamera, RenderingFrameKDirectlyEqualsTheKthFrameOfTheStream)
     FakeCamera stream(smallConfig());
     const FakeCamera direct(smallConfig());
     Frame expected5;
-    direct.render(5, expected5);  // rendered out of order on purpose
+    direct.render(5, expected5); // rendered out of order on purpose
     Frame expected2;
     direct.render(2, expected2);
     Frame frame;
@@ -171,7 +171,7 @@ TEST(FakeCamera, TrajectoryStaysInItsEnvelopeAndRepeatsEvery12Seconds)
     for (uint64_t k = 0; k < 360; k += 3) {
         const Pose cameraFromWorld = camera.cameraFromWorld(k);
         const glm::dvec3 eye = cameraFromWorld.inverse().t;
-        const double distance = glm::length(eye);  // the only tag sits at the origin
+        const double distance = glm::length(eye); // the only tag sits at the origin
         const double elevation = std::asin(eye.z / distance) * 180.0 / kPi;
         EXPECT_GE(distance, 0.5 - 1e-9) << "frame " << k;
         EXPECT_LE(distance, 0.8 + 1e-9) << "frame " << k;
@@ -186,7 +186,7 @@ TEST(FakeCamera, TrajectoryStaysInItsEnvelopeAndRepeatsEvery12Seconds)
         }
     }
     const Pose first = camera.cameraFromWorld(0);
-    const Pose afterPeriod = camera.cameraFromWorld(360);  // 12 s at 30 fps
+    const Pose afterPeriod = camera.cameraFromWorld(360); // 12 s at 30 fps
     EXPECT_NEAR(glm::length(first.t - afterPeriod.t), 0.0, 1e-9);
 }
 
@@ -243,7 +243,7 @@ void expectPixelsMatchGroundTruth(const CameraConfig& config)
                 const int inside = lumaAt(frame, projectMarkerPoint(camera, truth, direction * (half - 0.4 * cell)));
                 const int outside = lumaAt(frame, projectMarkerPoint(camera, truth, direction * (half + 0.5 * cell)));
                 EXPECT_LT(inside, 70);
-                EXPECT_GT(outside, 190);  // brighter than any wood
+                EXPECT_GT(outside, 190); // brighter than any wood
             }
             const Image8 reference = shippedTag(truth.id);
             for (int row = 0; row < 10; ++row) {
@@ -338,7 +338,7 @@ TEST(FakeCamera, Reports720pRenderTime)
 {
     const FakeCamera camera(CameraConfig{});
     Frame frame;
-    camera.render(0, frame);  // first touch of the buffers
+    camera.render(0, frame); // first touch of the buffers
     const int frames = 10;
     const auto start = std::chrono::steady_clock::now();
     for (int k = 1; k <= frames; ++k) {

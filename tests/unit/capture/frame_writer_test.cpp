@@ -1,7 +1,7 @@
 // PNG stills and the writer factory.
-#include <gtest/gtest.h>
-
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "output/frame_writer.h"
@@ -66,7 +66,7 @@ TEST(FrameWriter, PngKeepsTheLastFrame)
         const auto writer = openFrameWriter(file, 30.0);
         writer->write(first);
         writer->write(last);
-        EXPECT_FALSE(std::filesystem::exists(file));  // written at finish
+        EXPECT_FALSE(std::filesystem::exists(file)); // written at finish
         writer->finish();
     }
     EXPECT_EQ(readImage(file, 3).data, last.data);

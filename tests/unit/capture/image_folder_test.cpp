@@ -1,7 +1,7 @@
 // Image-folder playback and the source factory.
-#include <gtest/gtest.h>
-
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "capture/capture_source.h"
 #include "capture/image_folder_source.h"
@@ -40,7 +40,7 @@ TEST(ImageFolderSource, PlaysImagesInNameOrderAndLoops)
 {
     TempDir dir;
     writePng(dir / "b.png", solid(6, 4, 0, 0, 255));
-    writePng(dir / "a.PNG", solid(6, 4, 255, 0, 0));  // extensions match in any case
+    writePng(dir / "a.PNG", solid(6, 4, 255, 0, 0)); // extensions match in any case
     writeFile(dir / "notes.txt", "not an image");
     ImageFolderSource source(folderConfig(dir.path(), true));
     EXPECT_EQ(source.width(), 6);
@@ -92,7 +92,7 @@ TEST(ImageFolderSource, BadFoldersAndFilesAreInputErrors)
 {
     TempDir dir;
     EXPECT_THROW(ImageFolderSource(folderConfig(dir / "absent", true)), InputError);
-    EXPECT_THROW(ImageFolderSource(folderConfig(dir.path(), true)), InputError);  // empty
+    EXPECT_THROW(ImageFolderSource(folderConfig(dir.path(), true)), InputError); // empty
     writeFile(dir / "broken.png", "this is no PNG");
     try {
         ImageFolderSource source(folderConfig(dir.path(), true));

@@ -78,7 +78,7 @@ TEST(PrefetchingSource, DestroyedWhileTheWorkerWaits)
     auto source = std::make_unique<PrefetchingSource>(std::make_unique<ScriptedSource>(100, -1));
     Frame f;
     ASSERT_TRUE(source->next(f));
-    source.reset();  // must join without deadlock
+    source.reset(); // must join without deadlock
     SUCCEED();
 }
 

@@ -48,12 +48,12 @@ TEST(ReconnectingSource, ReopensWithBackoffAndKeepsSequencesMonotonic)
         ASSERT_TRUE(source.next(f));
         EXPECT_EQ(f.sequence, k);
     }
-    failuresToCome = 2;  // the device stays away for two attempts
-    EXPECT_THROW(source.next(f), CameraUnavailable);  // unplugged
+    failuresToCome = 2;                              // the device stays away for two attempts
+    EXPECT_THROW(source.next(f), CameraUnavailable); // unplugged
     const auto start = std::chrono::steady_clock::now();
-    EXPECT_THROW(source.next(f), CameraUnavailable);  // first reopen fails (after 20 ms)
-    EXPECT_THROW(source.next(f), CameraUnavailable);  // second fails (after 40 ms more)
-    ASSERT_TRUE(source.next(f));                      // third succeeds (after 50 ms more)
+    EXPECT_THROW(source.next(f), CameraUnavailable); // first reopen fails (after 20 ms)
+    EXPECT_THROW(source.next(f), CameraUnavailable); // second fails (after 40 ms more)
+    ASSERT_TRUE(source.next(f));                     // third succeeds (after 50 ms more)
     const auto waited = std::chrono::steady_clock::now() - start;
     EXPECT_GE(waited, std::chrono::milliseconds(20 + 40 + 50));
     EXPECT_LT(waited, std::chrono::milliseconds(2000));

@@ -1,8 +1,8 @@
 // The tag36h11 pattern the fake camera draws must be the official tag images, bit for bit.
-#include <gtest/gtest.h>
-
 #include <cstdio>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "capture/tag36h11_pattern.h"
 #include "core/error.h"

@@ -1,11 +1,11 @@
 // Y4M: what lumar writes it reads back, known YCbCr values decode to the right colours in
 // both ranges, and every malformed file is an InputError naming the file.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "capture/y4m_source.h"
 #include "core/error.h"
@@ -263,7 +263,8 @@ TEST(Y4mSource, MalformedFilesAreInputErrorsNamingTheFile)
     expectInputErrorNaming(write("zero.y4m", "YUV4MPEG2 W0 H2\nFRAME\n" + frame420), "outside 1..16384");
     expectInputErrorNaming(write("huge.y4m", "YUV4MPEG2 W20000 H2\nFRAME\n" + frame420), "outside 1..16384");
     expectInputErrorNaming(write("odd.y4m", "YUV4MPEG2 W3 H2\nFRAME\n" + frame420), "even width");
-    expectInputErrorNaming(write("deep.y4m", "YUV4MPEG2 W2 H2 C420p10\nFRAME\n" + frame420), "unsupported colour space");
+    expectInputErrorNaming(write("deep.y4m", "YUV4MPEG2 W2 H2 C420p10\nFRAME\n" + frame420),
+                           "unsupported colour space");
     expectInputErrorNaming(write("rate.y4m", "YUV4MPEG2 W2 H2 F30:0\nFRAME\n" + frame420), "bad frame rate");
     expectInputErrorNaming(write("empty.y4m", "YUV4MPEG2 W2 H2\n"), "no frames");
     expectInputErrorNaming(write("short.y4m", "YUV4MPEG2 W2 H2\nFRAME\n" + frame420.substr(3)), "truncated");

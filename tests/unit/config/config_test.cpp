@@ -261,8 +261,9 @@ TEST_F(ConfigTest, UnknownMarkerReference)
 
 TEST_F(ConfigTest, MissingFiles)
 {
-    const std::string m = expectError("[[markers]]\nid = 0\nsize = 0.1\n[[objects]]\nmodel = \"nope.glb\"\nmarker = 0\n",
-                                      "test.toml:5: objects[0].model: no such file: ");
+    const std::string m =
+        expectError("[[markers]]\nid = 0\nsize = 0.1\n[[objects]]\nmodel = \"nope.glb\"\nmarker = 0\n",
+                    "test.toml:5: objects[0].model: no such file: ");
     EXPECT_NE(m.find("nope.glb"), std::string::npos);
     expectError("[environment]\nhdr = \"missing.hdr\"\n", "test.toml:2: environment.hdr: no such file");
     expectError("[camera]\ncalibration = \"cam.yaml\"\n", "test.toml:2: camera.calibration: no such file");

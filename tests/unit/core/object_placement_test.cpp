@@ -20,7 +20,7 @@ void expectNear(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e-
 TEST(ObjectPlacement, StandsTheModelOnTheMarker)
 {
     ObjectConfig object;
-    object.size = 0.2;  // longest side (model y: 4 units) becomes 0.2 m
+    object.size = 0.2; // longest side (model y: 4 units) becomes 0.2 m
     const glm::vec3 lo(-1, 2, -0.5), hi(1, 6, 0.5);
     const glm::dmat4 m = markerFromModel(object, lo, hi);
     // Bottom centre of the box lands on the marker origin; model +Y is marker +Z.
@@ -36,7 +36,7 @@ TEST(ObjectPlacement, OffsetRotationAndScale)
     ObjectConfig object;
     object.scale = 2.0;
     object.offset = {0.1, 0.0, 0.0};
-    object.rotationDeg = {0, 0, 90};  // about the marker's up axis
+    object.rotationDeg = {0, 0, 90}; // about the marker's up axis
     const glm::dmat4 m = markerFromModel(object, glm::vec3(-1), glm::vec3(1));
     // The box's bottom centre (0,-1,0) goes to the offset; model +X turns to marker +Y.
     expectNear(transformPoint(m, {0, -1, 0}), {0.1, 0, 0});

@@ -40,7 +40,7 @@ TEST(GltfAccessors, NonIndexedTrianglesGetSequentialIndicesAndGeneratedNormals)
     EXPECT_EQ(p.indices, (std::vector<uint32_t>{0, 1, 2}));
     EXPECT_EQ(p.material, -1);
     for (const glm::vec3& n : p.normals) {
-        EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);  // counter-clockwise seen from +z
+        EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, 1)), 0.0f, 1e-6f); // counter-clockwise seen from +z
     }
     for (const glm::vec2& uv : p.uvs) {
         EXPECT_EQ(uv, glm::vec2(0.0f));
@@ -68,8 +68,11 @@ TEST(GltfAccessors, InterleavedStrideNormalizedUvsAndByteIndices)
     const size_t uvs = g.add<uint16_t>({0, 65535, 65535, 32768, 0, 0});
     const size_t indices = g.add<uint8_t>({2, 0, 1});
     g.bufferViews = R"({"buffer":0,"byteLength":72,"byteStride":24},)"
-                    R"({"buffer":0,"byteOffset":)" + std::to_string(uvs) + R"(,"byteLength":12},)"
-                    R"({"buffer":0,"byteOffset":)" + std::to_string(indices) + R"(,"byteLength":3})";
+                    R"({"buffer":0,"byteOffset":)" +
+                    std::to_string(uvs) +
+                    R"(,"byteLength":12},)"
+                    R"({"buffer":0,"byteOffset":)" +
+                    std::to_string(indices) + R"(,"byteLength":3})";
     g.accessors = R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
                   R"({"bufferView":0,"byteOffset":12,"componentType":5126,"count":3,"type":"VEC3"},)"
                   R"({"bufferView":1,"componentType":5123,"normalized":true,"count":3,"type":"VEC2"},)"
@@ -80,7 +83,7 @@ TEST(GltfAccessors, InterleavedStrideNormalizedUvsAndByteIndices)
     EXPECT_EQ(p.positions.at(1), glm::vec3(1, 0, 0));
     EXPECT_EQ(p.positions.at(2), glm::vec3(0, 1, 0));
     for (const glm::vec3& n : p.normals) {
-        EXPECT_EQ(n, glm::vec3(0, 0, 1));  // the file's (0,0,2..4), normalised
+        EXPECT_EQ(n, glm::vec3(0, 0, 1)); // the file's (0,0,2..4), normalised
     }
     EXPECT_EQ(p.uvs.at(0), glm::vec2(0.0f, 1.0f));
     EXPECT_EQ(p.uvs.at(1), glm::vec2(1.0f, 32768.0f / 65535.0f));
@@ -114,7 +117,9 @@ TEST(GltfAccessors, NodeTransformsComposeDownTheHierarchy)
     // scale 2. A third node instances the mesh again through a column-major matrix.
     const double h = std::sqrt(0.5);
     g.nodes = R"({"translation":[1,2,3],"children":[1,2]},)"
-              R"({"mesh":0,"rotation":[0,0,)" + std::to_string(h) + "," + std::to_string(h) + R"(],"scale":[2,2,2]},)"
+              R"({"mesh":0,"rotation":[0,0,)" +
+              std::to_string(h) + "," + std::to_string(h) +
+              R"(],"scale":[2,2,2]},)"
               R"({"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 10,0,0,1]})";
     const GltfModel model = loadGltfModel(g.write(dir, "hierarchy"));
     ASSERT_EQ(model.primitives.size(), 2u);
@@ -134,7 +139,7 @@ TEST(GltfAccessors, NodeTransformsComposeDownTheHierarchy)
     EXPECT_NEAR(glm::distance(moved, glm::vec3(1, 4, 3)), 0.0f, 1e-5f);
     // Second instance: translation (1,2,3) then (10,0,0); its vertices span x 11..12.
     EXPECT_NEAR(model.boundsMax.x, 12.0f, 1e-5f);
-    EXPECT_NEAR(model.boundsMin.x, -1.0f, 1e-5f);  // (0,1,0) -> (-2,0,0) scaled/rotated -> x = 1 - 2
+    EXPECT_NEAR(model.boundsMin.x, -1.0f, 1e-5f); // (0,1,0) -> (-2,0,0) scaled/rotated -> x = 1 - 2
     EXPECT_NEAR(model.boundsMin.y, 2.0f, 1e-5f);
     EXPECT_NEAR(model.boundsMax.y, 4.0f, 1e-5f);
     EXPECT_NEAR(model.boundsMin.z, 3.0f, 1e-5f);
@@ -162,7 +167,7 @@ TEST(GltfAccessors, MaterialFieldsAndOneImageAsColourAndAsData)
     EXPECT_EQ(m.baseColorFactor, glm::vec4(0.5f, 0.25f, 1.0f, 0.75f));
     EXPECT_FLOAT_EQ(m.metallicFactor, 0.3f);
     EXPECT_FLOAT_EQ(m.roughnessFactor, 0.7f);
-    EXPECT_EQ(m.emissiveFactor, glm::vec3(4.0f, 2.0f, 0.0f));  // factor x emissiveStrength
+    EXPECT_EQ(m.emissiveFactor, glm::vec3(4.0f, 2.0f, 0.0f)); // factor x emissiveStrength
     EXPECT_FLOAT_EQ(m.normalScale, 0.5f);
     EXPECT_EQ(m.metallicRoughnessTexture, -1);
     // One image, used as sRGB colour (base colour, emissive) and as linear data (normals).
@@ -174,7 +179,7 @@ TEST(GltfAccessors, MaterialFieldsAndOneImageAsColourAndAsData)
     EXPECT_TRUE(model.textures[size_t(m.baseColorTexture)].srgb);
     EXPECT_FALSE(model.textures[size_t(m.normalTexture)].srgb);
     const Image8& image = model.textures[size_t(m.baseColorTexture)].image;
-    ASSERT_EQ(image.width, 10);  // the tag PNG: 10 x 10 RGBA, white 1-px border, black ring
+    ASSERT_EQ(image.width, 10); // the tag PNG: 10 x 10 RGBA, white 1-px border, black ring
     ASSERT_EQ(image.height, 10);
     EXPECT_EQ(image.at(0, 0)[0], 255);
     EXPECT_EQ(image.at(1, 1)[0], 0);

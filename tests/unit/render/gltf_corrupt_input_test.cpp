@@ -55,7 +55,7 @@ TEST(GltfCorruptInput, TruncatedGlbAtManyLengths)
 {
     ScratchDir dir;
     const std::vector<uint8_t> whole = boxTextured();
-    ASSERT_EQ(whole.size(), 6540u);  // MANIFEST §4
+    ASSERT_EQ(whole.size(), 6540u); // MANIFEST §4
     for (const size_t length : {size_t(1), size_t(4), size_t(11), size_t(12), size_t(19), size_t(20), size_t(27),
                                 size_t(100), size_t(1000), whole.size() / 2, whole.size() - 8, whole.size() - 1}) {
         SCOPED_TRACE("first " + std::to_string(length) + " bytes");
@@ -82,7 +82,8 @@ TEST(GltfCorruptInput, RandomBytes)
         // The same bytes behind a valid GLB header: the chunk walk must refuse them.
         std::vector<uint8_t> withHeader = {'g', 'l', 'T', 'F', 2, 0, 0, 0};
         const uint32_t total = uint32_t(12 + bytes.size());
-        withHeader.insert(withHeader.end(), {uint8_t(total), uint8_t(total >> 8), uint8_t(total >> 16), uint8_t(total >> 24)});
+        withHeader.insert(withHeader.end(),
+                          {uint8_t(total), uint8_t(total >> 8), uint8_t(total >> 16), uint8_t(total >> 24)});
         withHeader.insert(withHeader.end(), bytes.begin(), bytes.end());
         const auto file = dir.file("random-header-" + std::to_string(length) + ".glb");
         test::writeBytes(file, withHeader);
@@ -130,7 +131,7 @@ struct BrokenCase {
 const BrokenCase kBrokenCases[] = {
     {"index out of range",
      [](MiniGltf& g) {
-         g.bin[36 + 4] = 7;  // third u16 index: 2 -> 7, with 3 vertices
+         g.bin[36 + 4] = 7; // third u16 index: 2 -> 7, with 3 vertices
      },
      "index 7 is out of range"},
     {"accessor past the end of its bufferView",
@@ -146,7 +147,9 @@ const BrokenCase kBrokenCases[] = {
      },
      "run past the end"},
     {"bufferView past the end of the buffer",
-     [](MiniGltf& g) { g.bufferViews = R"({"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":600})"; },
+     [](MiniGltf& g) {
+         g.bufferViews = R"({"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":600})";
+     },
      "lies outside its buffer"},
     {"bufferView of a buffer that does not exist",
      [](MiniGltf& g) { g.bufferViews = R"({"buffer":3,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6})"; },
@@ -184,9 +187,7 @@ const BrokenCase kBrokenCases[] = {
      },
      "not a multiple of 3"},
     {"mesh that does not exist", [](MiniGltf& g) { g.nodes = R"({"mesh":5})"; }, "mesh 5 does not exist"},
-    {"node cycle",
-     [](MiniGltf& g) { g.nodes = R"({"mesh":0,"children":[1]},{"children":[0]})"; },
-     "not a tree"},
+    {"node cycle", [](MiniGltf& g) { g.nodes = R"({"mesh":0,"children":[1]},{"children":[0]})"; }, "not a tree"},
     {"child node that does not exist", [](MiniGltf& g) { g.nodes = R"({"mesh":0,"children":[8]})"; }, "node 8"},
     {"material that does not exist",
      [](MiniGltf& g) { g.meshes = R"({"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":2}]})"; },
@@ -196,11 +197,11 @@ const BrokenCase kBrokenCases[] = {
      "texture 4 does not exist"},
     {"unsupported required extension",
      [](MiniGltf& g) {
-         g.extra = R"(,"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"])";
+         g.extra =
+             R"(,"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"])";
      },
      "KHR_draco_mesh_compression"},
-    {"only points",
-     [](MiniGltf& g) { g.meshes = R"({"primitives":[{"attributes":{"POSITION":0},"mode":0}]})"; },
+    {"only points", [](MiniGltf& g) { g.meshes = R"({"primitives":[{"attributes":{"POSITION":0},"mode":0}]})"; },
      "no triangles"},
     {"sparse index out of range",
      [](MiniGltf& g) {

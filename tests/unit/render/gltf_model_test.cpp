@@ -51,13 +51,13 @@ TEST(GltfModel, BoxTexturedHasTwelveTrianglesOneTexturedMaterialAndUnitBounds)
     EXPECT_EQ(model.triangleCount(), 12u);
     ASSERT_EQ(model.materials.size(), 1u);
     const GltfMaterial& material = model.materials[0];
-    EXPECT_FLOAT_EQ(material.metallicFactor, 0.0f);  // the file sets 0, the default is 1
+    EXPECT_FLOAT_EQ(material.metallicFactor, 0.0f); // the file sets 0, the default is 1
     EXPECT_FLOAT_EQ(material.roughnessFactor, 1.0f);
     ASSERT_EQ(model.textures.size(), 1u);
     ASSERT_EQ(material.baseColorTexture, 0);
     const GltfTexture& texture = model.textures[0];
     EXPECT_TRUE(texture.srgb);
-    EXPECT_EQ(texture.image.width, 256);  // the embedded PNG's IHDR says 256 x 256
+    EXPECT_EQ(texture.image.width, 256); // the embedded PNG's IHDR says 256 x 256
     EXPECT_EQ(texture.image.height, 256);
     EXPECT_EQ(texture.image.channels, 4);
     for (int axis = 0; axis < 3; ++axis) {
@@ -94,7 +94,7 @@ TEST(GltfModel, SuzanneFromSharedData)
         GTEST_SKIP() << file << " is absent (../shared/data exists on development machines only)";
     }
     const GltfModel model = loadGltfModel(file);
-    EXPECT_EQ(model.triangleCount(), 3936u);  // MANIFEST §4
+    EXPECT_EQ(model.triangleCount(), 3936u); // MANIFEST §4
     EXPECT_EQ(model.materials.size(), 1u);
     EXPECT_EQ(model.textures.size(), 2u);
     EXPECT_TRUE(model.textures[size_t(model.materials[0].baseColorTexture)].srgb);
@@ -110,7 +110,7 @@ TEST(GltfModel, NormalTangentMirrorTestFromSharedData)
         GTEST_SKIP() << file << " is absent (../shared/data exists on development machines only)";
     }
     const GltfModel model = loadGltfModel(file);
-    EXPECT_EQ(model.triangleCount(), 5240u);  // MANIFEST §4
+    EXPECT_EQ(model.triangleCount(), 5240u); // MANIFEST §4
     ASSERT_EQ(model.materials.size(), 1u);
     const GltfMaterial& material = model.materials[0];
     EXPECT_TRUE(material.doubleSided);
@@ -132,8 +132,10 @@ TEST(GltfModel, SharedModelsMatchTheManifestCounts)
         size_t materials;
     };
     const Expected models[] = {
-        {"DamagedHelmet.glb", 15452, 1},       {"ToyCar.glb", 108936, 3},
-        {"AlphaBlendModeTest.glb", 61, 6},     {"EmissiveStrengthTest.glb", 90, 6},
+        {"DamagedHelmet.glb", 15452, 1},
+        {"ToyCar.glb", 108936, 3},
+        {"AlphaBlendModeTest.glb", 61, 6},
+        {"EmissiveStrengthTest.glb", 90, 6},
         {"MetalRoughSpheresNoTextures.glb", 1040409, 98},
     };
     for (const Expected& expected : models) {
@@ -172,8 +174,8 @@ TEST(GltfModel, GeneratedTangentsAgreeWithTheFileOnMirroredUvs)
             worstDegrees = std::max(worstDegrees, degrees);
         }
     }
-    std::printf("%zu vertices (%zu mirrored): %zu agree in handedness, worst direction error %.2f degrees\n",
-                vertices, mirrored, sameHandedness, worstDegrees);
+    std::printf("%zu vertices (%zu mirrored): %zu agree in handedness, worst direction error %.2f degrees\n", vertices,
+                mirrored, sameHandedness, worstDegrees);
     // Both handednesses must be well represented, or a w sign error could go unnoticed.
     ASSERT_GE(mirrored, 50u);
     ASSERT_GE(vertices - mirrored, 50u);

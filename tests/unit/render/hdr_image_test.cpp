@@ -71,7 +71,7 @@ TEST(HdrImage, VeniceSunsetMatchesTheManifest)
 TEST(HdrImage, FlatPixelsDecodeExactlyTopRowFirst)
 {
     ScratchDir dir;
-    std::vector<uint8_t> bytes = header(2, 2);  // width < 8: stored flat, no RLE
+    std::vector<uint8_t> bytes = header(2, 2); // width < 8: stored flat, no RLE
     // RGBE: value = mantissa * 2^(exponent - 136); exponent 0 means black.
     bytes.insert(bytes.end(), {128, 64, 32, 129, 0, 0, 0, 0, 255, 0, 0, 136, 1, 2, 3, 128});
     const auto file = dir.file("flat.hdr");
@@ -79,16 +79,16 @@ TEST(HdrImage, FlatPixelsDecodeExactlyTopRowFirst)
     const ImageF image = loadHdrImage(file);
     ASSERT_EQ(image.width, 2);
     ASSERT_EQ(image.height, 2);
-    EXPECT_EQ(image.data, (std::vector<float>{1.0f, 0.5f, 0.25f, 0, 0, 0, 255.0f, 0, 0, 1 / 256.0f, 2 / 256.0f,
-                                              3 / 256.0f}));
+    EXPECT_EQ(image.data,
+              (std::vector<float>{1.0f, 0.5f, 0.25f, 0, 0, 0, 255.0f, 0, 0, 1 / 256.0f, 2 / 256.0f, 3 / 256.0f}));
 }
 
 TEST(HdrImage, RunLengthEncodedRowsDecodeExactly)
 {
     ScratchDir dir;
     std::vector<uint8_t> bytes = header(8, 2);
-    const uint8_t top[4] = {128, 128, 128, 130};    // 128 * 2^-6 = 2 in every channel
-    const uint8_t bottom[4] = {64, 32, 16, 136};    // (64, 32, 16)
+    const uint8_t top[4] = {128, 128, 128, 130}; // 128 * 2^-6 = 2 in every channel
+    const uint8_t bottom[4] = {64, 32, 16, 136}; // (64, 32, 16)
     appendRunScanline(bytes, top);
     appendRunScanline(bytes, bottom);
     const auto file = dir.file("rle.hdr");

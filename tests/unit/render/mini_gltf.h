@@ -17,8 +17,7 @@ struct MiniGltf {
     std::vector<uint8_t> bin;
 
     // Appends `values` (4-byte aligned, as glTF requires for float data); returns the offset.
-    template <typename T>
-    size_t add(std::initializer_list<T> values)
+    template <typename T> size_t add(std::initializer_list<T> values)
     {
         while (bin.size() % 4 != 0) {
             bin.push_back(0);

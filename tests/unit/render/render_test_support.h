@@ -23,8 +23,8 @@ public:
     ScratchDir()
     {
         std::random_device seed;
-        const auto unique = std::to_string(seed()) + "-" +
-                            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+        const auto unique =
+            std::to_string(seed()) + "-" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
         path_ = std::filesystem::temp_directory_path() / ("lumar-render-test-" + unique);
         std::filesystem::create_directories(path_);
     }

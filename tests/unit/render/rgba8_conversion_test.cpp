@@ -41,7 +41,7 @@ TEST(Rgba8Conversion, SixteenBitSamplesRoundToNearest)
 TEST(Rgba8Conversion, RejectsInconsistentShapes)
 {
     const std::vector<uint8_t> three = {1, 2, 3};
-    EXPECT_THROW((void)convertToRgba8(three, 2, 1, 3, 8), InputError);  // needs 6 bytes
+    EXPECT_THROW((void)convertToRgba8(three, 2, 1, 3, 8), InputError); // needs 6 bytes
     EXPECT_THROW((void)convertToRgba8(three, 1, 1, 5, 8), InputError);
     EXPECT_THROW((void)convertToRgba8(three, 1, 1, 3, 32), InputError);
     EXPECT_THROW((void)convertToRgba8(three, 0, 1, 3, 8), InputError);

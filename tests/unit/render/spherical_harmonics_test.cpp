@@ -47,9 +47,15 @@ ImageF environment(int width, int height, const std::function<glm::vec3(const gl
 // The formulas of sh9_reference.json's "_sh_basis", written out again (x, y, z of d).
 std::array<double, 9> referenceBasis(const glm::dvec3& d)
 {
-    return {0.282095,           0.488603 * d.y,       0.488603 * d.z,
-            0.488603 * d.x,     1.092548 * d.x * d.y, 1.092548 * d.y * d.z,
-            0.315392 * (3 * d.z * d.z - 1), 1.092548 * d.x * d.z, 0.546274 * (d.x * d.x - d.y * d.y)};
+    return {0.282095,
+            0.488603 * d.y,
+            0.488603 * d.z,
+            0.488603 * d.x,
+            1.092548 * d.x * d.y,
+            1.092548 * d.y * d.z,
+            0.315392 * (3 * d.z * d.z - 1),
+            1.092548 * d.x * d.z,
+            0.546274 * (d.x * d.x - d.y * d.y)};
 }
 
 TEST(SphericalHarmonics, BasisFollowsTheReferenceOrderAndSigns)
@@ -75,9 +81,8 @@ TEST(SphericalHarmonics, BasisIsOrthonormalUnderTheProjection)
 {
     // Projecting Y_j gives the j-th row of the Gram matrix: delta_ij to within 1e-3.
     for (size_t j = 0; j < 9; ++j) {
-        const ImageF image = environment(kWidth, kHeight, [&](const glm::dvec3& d) {
-            return glm::vec3(float(referenceBasis(d)[j]), 0.0f, 0.0f);
-        });
+        const ImageF image = environment(
+            kWidth, kHeight, [&](const glm::dvec3& d) { return glm::vec3(float(referenceBasis(d)[j]), 0.0f, 0.0f); });
         const SH9 sh = projectEquirectSH9(image);
         for (size_t i = 0; i < 9; ++i) {
             EXPECT_NEAR(sh[i].x, i == j ? 1.0 : 0.0, 1e-3) << "i = " << i << ", j = " << j;
@@ -113,8 +118,8 @@ TEST(SphericalHarmonics, LinearEnvironment)
     // L = a + b y: c_0 = a * 0.282095 * 4 pi, c_1 (the y term) = b * 0.488603 * 4 pi / 3.
     const glm::dvec3 a(1.0, 0.5, 2.0);
     const glm::dvec3 b(0.5, -1.0, 0.25);
-    const SH9 sh = projectEquirectSH9(
-        environment(kWidth, kHeight, [&](const glm::dvec3& d) { return glm::vec3(a + b * d.y); }));
+    const SH9 sh =
+        projectEquirectSH9(environment(kWidth, kHeight, [&](const glm::dvec3& d) { return glm::vec3(a + b * d.y); }));
     std::array<glm::dvec3, 9> expected{};
     expected[0] = a * 0.282095 * 4.0 * kPi;
     expected[1] = b * 0.488603 * 4.0 * kPi / 3.0;
@@ -127,9 +132,8 @@ TEST(SphericalHarmonics, ClampedCosineLobeAboutUp)
     // int y^3 = pi / 2, int y x^2 = int y z^2 = pi / 4; odd terms in x or z vanish. So
     // c_0 = 0.282095 pi, c_1 = 0.488603 * 2 pi / 3, c_6 = 0.315392 (3 pi/4 - pi),
     // c_8 = 0.546274 (pi/4 - pi/2). H is even, so the kink at the horizon lies on a row edge.
-    const SH9 sh = projectEquirectSH9(environment(kWidth, kHeight, [](const glm::dvec3& d) {
-        return glm::vec3(float(std::max(0.0, d.y)));
-    }));
+    const SH9 sh = projectEquirectSH9(
+        environment(kWidth, kHeight, [](const glm::dvec3& d) { return glm::vec3(float(std::max(0.0, d.y))); }));
     std::array<glm::dvec3, 9> expected{};
     expected[0] = glm::dvec3(0.282095 * kPi);
     expected[1] = glm::dvec3(0.488603 * 2.0 * kPi / 3.0);

@@ -88,7 +88,7 @@ TEST(TangentSpace, NormalsAreAreaWeighted)
 TEST(TangentSpace, UnusedAndDegenerateVerticesGetAUnitNormal)
 {
     const std::vector<glm::vec3> positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
-    const std::vector<uint32_t> indices = {0, 1, 2};  // collinear: zero area
+    const std::vector<uint32_t> indices = {0, 1, 2}; // collinear: zero area
     for (const glm::vec3& n : generateVertexNormals(positions, indices)) {
         EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
     }
