@@ -54,6 +54,10 @@ ImageF neutralEnvironment()
 
 Pipeline::Pipeline(const Config& config) : config_(config)
 {
+    filterSettings_.minCutoffHz = config_.tracking.filterMinCutoffHz;
+    filterSettings_.beta = config_.tracking.filterBeta;
+    filterSettings_.rotationMinCutoffHz = config_.tracking.filterRotationMinCutoffHz;
+    filterSettings_.rotationBeta = config_.tracking.filterRotationBeta;
     capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(config_.camera));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = std::make_unique<TagTracker>(config_.tracking, intrinsics_, tagSizesFor(config_));
@@ -84,12 +88,18 @@ Pipeline::Pipeline(const Config& config) : config_(config)
 
 Pipeline::~Pipeline() = default;
 
-void Pipeline::updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence)
+void Pipeline::updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs)
 {
     for (const TagDetection& d : detections) {
         if (!d.hasPose)
             continue;
-        markers_[d.id] = MarkerState{d.cameraFromMarker, sequence};
+        auto [it, inserted] = markers_.try_emplace(d.id);
+        MarkerState& marker = it->second;
+        if (inserted)
+            marker.filter = OneEuroPoseFilter(filterSettings_);
+        marker.cameraFromMarker =
+            config_.tracking.filter ? marker.filter.update(d.cameraFromMarker, timestampNs) : d.cameraFromMarker;
+        marker.lastSeen = sequence;
     }
 }
 
@@ -104,7 +114,7 @@ bool Pipeline::step(FrameReport& report)
 
     start = std::chrono::steady_clock::now();
     report.detections = tracker_->detect(frame_.luma);
-    updateMarkers(report.detections, frame_.sequence);
+    updateMarkers(report.detections, frame_.sequence, frame_.timestampNs);
     report.times.detectMs = millisecondsSince(start);
 
     start = std::chrono::steady_clock::now();

@@ -12,6 +12,7 @@
 #include "core/camera_model.h"
 #include "core/frame.h"
 #include "gles_renderer/scene_renderer.h"
+#include "tracking/one_euro_filter.h"
 #include "tracking/tag_tracker.h"
 
 namespace lumar {
@@ -52,11 +53,12 @@ private:
         glm::dmat4 markerFromModel{1.0};
     };
     struct MarkerState {
-        Pose cameraFromMarker;
+        Pose cameraFromMarker; // filtered when the config asks for it
         uint64_t lastSeen = 0;
+        OneEuroPoseFilter filter;
     };
 
-    void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence);
+    void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
 
     Config config_;
     std::unique_ptr<CaptureSource> capture_;
@@ -65,6 +67,7 @@ private:
     std::unique_ptr<SceneRenderer> renderer_;
     std::vector<PlacedObject> objects_;
     std::map<int, MarkerState> markers_;
+    PoseFilterSettings filterSettings_;
     std::vector<DrawItem> drawItems_;
     Frame frame_;
     Image8 output_;

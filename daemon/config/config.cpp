@@ -105,6 +105,11 @@ void readTracking(TableReader& root, TrackingConfig& tracking, const Context& ct
     r.integer("threads", tracking.threads, 1, 64);
     r.boolean("roi", tracking.roi);
     r.integer("full_frame_every", tracking.fullFrameEvery, 1, 1000);
+    r.boolean("filter", tracking.filter);
+    r.number("filter_min_cutoff", tracking.filterMinCutoffHz, 0.0, 100.0, true);
+    r.number("filter_beta", tracking.filterBeta, 0.0, 1000.0);
+    r.number("filter_rotation_min_cutoff", tracking.filterRotationMinCutoffHz, 0.0, 100.0, true);
+    r.number("filter_rotation_beta", tracking.filterRotationBeta, 0.0, 1000.0);
     r.finish();
 }
 

@@ -46,6 +46,11 @@ struct TrackingConfig {
     int threads = 2;
     bool roi = true;         // search near the last detections first (full frame as fallback)
     int fullFrameEvery = 10; // with roi: a full-frame search at least this often (new tags)
+    bool filter = true;      // One-Euro pose filtering (tracking/one_euro_filter.h)
+    double filterMinCutoffHz = 0.3;
+    double filterBeta = 40.0;
+    double filterRotationMinCutoffHz = 0.3;
+    double filterRotationBeta = 8.0;
 };
 
 struct MarkerConfig {

@@ -37,6 +37,11 @@ decode_sharpening = 0.25
 threads = 2
 roi = true
 full_frame_every = 10
+filter = true
+filter_min_cutoff = 0.3
+filter_beta = 40.0
+filter_rotation_min_cutoff = 0.3
+filter_rotation_beta = 8.0
 
 [[markers]]
 id = 0
