@@ -14,6 +14,7 @@ packages=(
   libsystemd-dev
   libgtest-dev googletest
   glslang-tools
+  clang-format
 )
 
 missing=()

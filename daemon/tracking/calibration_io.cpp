@@ -16,7 +16,7 @@ namespace {
 constexpr int kMaxImageSide = 16384;
 // OpenCV's distortion vectors have 4, 5, 8, 12 or 14 terms; lumar's model is the first five.
 constexpr int kDistortionTermsUsed = 5;
-constexpr int kMaxMatrixSide = 16;  // the largest: 14 distortion terms
+constexpr int kMaxMatrixSide = 16; // the largest: 14 distortion terms
 
 // cv::Exception::err is the bare message; it may still span lines (YAML parser context).
 std::string oneLine(std::string text)
@@ -144,8 +144,8 @@ std::string describeParseFailure(const cv::Exception& e, const std::string& file
         const size_t open = where.rfind('(', close);
         if (close != std::string::npos && open != std::string::npos && open + 1 < close &&
             where.find_first_not_of("0123456789", open + 1) == close)
-            return fileName + ":" + where.substr(open + 1, close - open - 1) + ": malformed file: " +
-                   where.substr(close + 3);
+            return fileName + ":" + where.substr(open + 1, close - open - 1) +
+                   ": malformed file: " + where.substr(close + 3);
         return fileName + ": malformed file: " + where;
     }
     return fileName + ": cannot parse: " + oneLine(e.err);
@@ -178,8 +178,8 @@ CameraIntrinsics loadCalibration(const std::filesystem::path& file)
         if (!fs.isOpened())
             reader.fail("cannot read as OpenCV FileStorage");
         const CameraIntrinsics k = reader.read(fs);
-        LUMAR_LOG(Tracking, Info) << "calibration " << file.string() << ": " << k.width << "x" << k.height
-                                  << " fx " << k.fx << " fy " << k.fy << " cx " << k.cx << " cy " << k.cy;
+        LUMAR_LOG(Tracking, Info) << "calibration " << file.string() << ": " << k.width << "x" << k.height << " fx "
+                                  << k.fx << " fy " << k.fy << " cx " << k.cx << " cy " << k.cy;
         return k;
     } catch (const InputError&) {
         throw;
@@ -206,8 +206,8 @@ void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& 
         cv::FileStorage fs(name, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
         if (!fs.isOpened())
             throw RuntimeError(name + ": cannot open for writing");
-        const cv::Matx33d cameraMatrix(intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0,
-                                       0.0, 1.0);
+        const cv::Matx33d cameraMatrix(intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0, 0.0,
+                                       1.0);
         const cv::Matx<double, 1, 5> distortion(intrinsics.distortion.data());
         fs << "calibration_time" << utcTimestamp();
         fs << "image_width" << intrinsics.width;

@@ -15,7 +15,7 @@ constexpr int kPoseDigits = 9;
 void appendNumber(std::string& out, double value, int digits)
 {
     if (!std::isfinite(value)) {
-        out += "null";  // JSON has no NaN or infinity
+        out += "null"; // JSON has no NaN or infinity
         return;
     }
     char text[64];
@@ -29,21 +29,21 @@ size_t utf8SequenceLength(const std::string& text, size_t i)
     const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
     const unsigned char lead = byte(i);
     size_t length = 0;
-    unsigned char min2 = 0x80, max2 = 0xBF;  // allowed range of the second byte
+    unsigned char min2 = 0x80, max2 = 0xBF; // allowed range of the second byte
     if (lead >= 0xC2 && lead <= 0xDF) {
         length = 2;
     } else if (lead >= 0xE0 && lead <= 0xEF) {
         length = 3;
         if (lead == 0xE0)
-            min2 = 0xA0;  // overlong
+            min2 = 0xA0; // overlong
         if (lead == 0xED)
-            max2 = 0x9F;  // surrogates
+            max2 = 0x9F; // surrogates
     } else if (lead >= 0xF0 && lead <= 0xF4) {
         length = 4;
         if (lead == 0xF0)
-            min2 = 0x90;  // overlong
+            min2 = 0x90; // overlong
         if (lead == 0xF4)
-            max2 = 0x8F;  // beyond U+10FFFF
+            max2 = 0x8F; // beyond U+10FFFF
     } else {
         return 0;
     }
@@ -77,13 +77,27 @@ std::string jsonString(const std::string& text)
             continue;
         }
         switch (c) {
-        case '"': out += "\\\""; break;
-        case '\\': out += "\\\\"; break;
-        case '\b': out += "\\b"; break;
-        case '\f': out += "\\f"; break;
-        case '\n': out += "\\n"; break;
-        case '\r': out += "\\r"; break;
-        case '\t': out += "\\t"; break;
+        case '"':
+            out += "\\\"";
+            break;
+        case '\\':
+            out += "\\\\";
+            break;
+        case '\b':
+            out += "\\b";
+            break;
+        case '\f':
+            out += "\\f";
+            break;
+        case '\n':
+            out += "\\n";
+            break;
+        case '\r':
+            out += "\\r";
+            break;
+        case '\t':
+            out += "\\t";
+            break;
         default:
             if (c < 0x20) {
                 out += "\\u00";
@@ -125,7 +139,7 @@ std::string detectionsToJson(const std::string& file, const std::vector<TagDetec
                 for (int col = 0; col < 3; ++col) {
                     if (col > 0)
                         out += ',';
-                    appendNumber(out, p.R[col][row], kPoseDigits);  // glm: R[column][row]
+                    appendNumber(out, p.R[col][row], kPoseDigits); // glm: R[column][row]
                 }
                 out += ']';
             }

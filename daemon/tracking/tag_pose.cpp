@@ -54,7 +54,7 @@ struct SolverFrame {
     [[nodiscard]] int ippeIndexOf(int i) const
     {
         int x = kMarkerCornerSigns[i][0];
-        int y = -kMarkerCornerSigns[i][1];  // the 180 degree turn about x
+        int y = -kMarkerCornerSigns[i][1]; // the 180 degree turn about x
         for (int k = 0; k < quarterTurns; ++k) {
             const int rotatedX = -y;
             y = x;
@@ -63,7 +63,7 @@ struct SolverFrame {
         for (int j = 0; j < 4; ++j)
             if (kIppeCornerSigns[j][0] == x && kIppeCornerSigns[j][1] == y)
                 return j;
-        return -1;  // unreachable: a quarter turn maps corners onto corners
+        return -1; // unreachable: a quarter turn maps corners onto corners
     }
 };
 
@@ -108,7 +108,7 @@ double reprojectionRms(const std::vector<cv::Point3d>& objectPoints, const std::
 }
 
 struct Solution {
-    cv::Matx33d R;  // camera_from_marker
+    cv::Matx33d R; // camera_from_marker
     cv::Vec3d t;
     double rms = 0.0;
 };
@@ -133,8 +133,7 @@ bool solveInFrame(const SolverFrame& frame, const std::array<glm::dvec2, 4>& cor
     cv::Vec3d tvec;
     // Distortion goes to the solver, which undistorts the four corners; the image itself is
     // never undistorted (DESIGN.md §5).
-    if (!cv::solvePnP(objectPoints, imagePoints, cameraMatrix, distortion, rvec, tvec, false,
-                      cv::SOLVEPNP_IPPE_SQUARE))
+    if (!cv::solvePnP(objectPoints, imagePoints, cameraMatrix, distortion, rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE))
         return false;
     if (!std::isfinite(rvec[0]) || !std::isfinite(rvec[1]) || !std::isfinite(rvec[2]))
         return false;
@@ -169,8 +168,7 @@ bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, cons
         if (!std::isfinite(c.x) || !std::isfinite(c.y))
             return false;
 
-    const cv::Matx33d cameraMatrix(intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0, 0.0,
-                                   1.0);
+    const cv::Matx33d cameraMatrix(intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0, 0.0, 1.0);
     const std::vector<double> distortion(intrinsics.distortion.begin(), intrinsics.distortion.end());
 
     Solution best;

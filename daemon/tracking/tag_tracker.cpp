@@ -62,7 +62,7 @@ void validate(const TrackingConfig& config, const CameraIntrinsics& k, const Tag
 // sharpens) its input in place; only then does it need a copy of our const frame.
 bool libraryWritesInput(const TrackingConfig& config)
 {
-    if (float(config.quadDecimate) > 1.0f)  // compared as the library stores it
+    if (float(config.quadDecimate) > 1.0f) // compared as the library stores it
         return false;
     int kernel = int(4.0f * std::abs(float(config.quadSigma)));
     if (kernel % 2 == 0)
@@ -79,7 +79,7 @@ struct TagTracker::Impl {
     CameraIntrinsics intrinsics;
     TagSizes sizes;
     bool copyInput = false;
-    std::vector<uint8_t> scratch;  // the copy the library may modify, reused every frame
+    std::vector<uint8_t> scratch; // the copy the library may modify, reused every frame
     // Region-of-interest search around the last detections (DESIGN.md §5).
     bool roi = false;
     int fullFrameEvery = 1;
@@ -184,10 +184,9 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     impl_->roi = config.roi;
     impl_->fullFrameEvery = std::max(1, config.fullFrameEvery);
     impl_->roiAlignment = 4 * int(std::ceil(config.quadDecimate));
-    LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits
-                              << " bits), quad_decimate " << config.quadDecimate << ", quad_sigma "
-                              << config.quadSigma << ", refine_edges " << config.refineEdges << ", "
-                              << td.nthreads << " threads";
+    LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits << " bits), quad_decimate "
+                              << config.quadDecimate << ", quad_sigma " << config.quadSigma << ", refine_edges "
+                              << config.refineEdges << ", " << td.nthreads << " threads";
 }
 
 TagTracker::~TagTracker() = default;

@@ -20,12 +20,12 @@ namespace lumar {
 
 struct TagDetection {
     int id = -1;
-    std::array<glm::dvec2, 4> corners{};  // OpenCV pixel convention, AprilTag order
+    std::array<glm::dvec2, 4> corners{}; // OpenCV pixel convention, AprilTag order
     int hamming = 0;
     double decisionMargin = 0.0;
-    bool hasPose = false;                 // false when the tag's size is unknown or PnP failed
+    bool hasPose = false; // false when the tag's size is unknown or PnP failed
     Pose cameraFromMarker;
-    double reprojectionErrorPx = 0.0;     // RMS over the four corners
+    double reprojectionErrorPx = 0.0; // RMS over the four corners
 };
 
 // Tag side lengths in metres by id; `fallback` (0: none) for ids not listed.

@@ -1,17 +1,16 @@
 #include "vcam/real_libc.h"
 
+#include <cerrno>
+
 #include <dlfcn.h>
 #include <sys/mman.h>
-
-#include <cerrno>
 
 namespace lumar::vcam::real {
 namespace {
 
 // Resolved once per symbol (thread-safe static initialisation); null only if the C library
 // lacks the symbol, which the callers report as ENOSYS instead of crashing.
-template <typename Function>
-Function* next(const char* name)
+template <typename Function> Function* next(const char* name)
 {
     return reinterpret_cast<Function*>(dlsym(RTLD_NEXT, name));
 }

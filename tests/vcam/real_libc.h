@@ -3,11 +3,11 @@
 // interposer (which would take the registry lock twice).
 #pragma once
 
+#include <cstddef>
+
 #include <poll.h>
 #include <sys/select.h>
 #include <sys/types.h>
-
-#include <cstddef>
 
 namespace lumar::vcam::real {
 

@@ -1,10 +1,10 @@
 #include "vcam/vcam_pattern.h"
 
-#include <linux/videodev2.h>
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include <linux/videodev2.h>
 
 namespace lumar::vcam {
 namespace {
@@ -42,13 +42,13 @@ YCbCr encode(Rgb colour, bool bt709, bool fullRange)
 const std::array<Rgb, 8>& colourBars()
 {
     static const std::array<Rgb, 8> bars{{{191, 191, 191},
-                                           {191, 191, 0},
-                                           {0, 191, 191},
-                                           {0, 191, 0},
-                                           {191, 0, 191},
-                                           {191, 0, 0},
-                                           {0, 0, 191},
-                                           {0, 0, 0}}};
+                                          {191, 191, 0},
+                                          {0, 191, 191},
+                                          {0, 191, 0},
+                                          {191, 0, 191},
+                                          {191, 0, 0},
+                                          {0, 0, 191},
+                                          {0, 0, 0}}};
     return bars;
 }
 

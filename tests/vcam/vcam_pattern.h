@@ -24,7 +24,7 @@ int blockLeft(int64_t frameIndex, int width);
 int blockBandTop(int height);
 
 struct PatternFormat {
-    uint32_t pixelFormat = 0;  // V4L2_PIX_FMT_YUYV, _NV12 or _GREY
+    uint32_t pixelFormat = 0; // V4L2_PIX_FMT_YUYV, _NV12 or _GREY
     int width = 0;
     int height = 0;
     size_t bytesPerLine = 0;

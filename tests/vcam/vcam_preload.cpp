@@ -2,13 +2,6 @@
 // behind a real file descriptor (an eventfd, so close/dup/fcntl behave); ioctl, mmap, poll
 // and select on that descriptor go to the device, everything else to the C library.
 // munmap needs no interposer: a buffer mapping is a plain mapping of the device's memfd.
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/eventfd.h>
-#include <sys/mman.h>
-#include <sys/select.h>
-#include <time.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdarg>
@@ -19,6 +12,13 @@
 #include <mutex>
 #include <string_view>
 #include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/mman.h>
+#include <sys/select.h>
+#include <time.h>
 
 #include "vcam/real_libc.h"
 #include "vcam/virtual_device.h"
@@ -211,9 +211,8 @@ int selectWithDevices(int count, fd_set* readSet, fd_set* writeSet, fd_set* exce
         timeval wait{};
         wait.tv_sec = waitMs / 1000;
         wait.tv_usec = (waitMs % 1000) * 1000;
-        const int othersReady = real::select(count, readSet ? &readOthers : nullptr,
-                                             writeSet ? &writeOthers : nullptr, exceptSet ? &exceptOthers : nullptr,
-                                             waitMs < 0 ? nullptr : &wait);
+        const int othersReady = real::select(count, readSet ? &readOthers : nullptr, writeSet ? &writeOthers : nullptr,
+                                             exceptSet ? &exceptOthers : nullptr, waitMs < 0 ? nullptr : &wait);
         if (othersReady < 0) {
             return -1;
         }
@@ -225,9 +224,12 @@ int selectWithDevices(int count, fd_set* readSet, fd_set* writeSet, fd_set* exce
             for (int fd : exceptionalDevices) {
                 FD_SET(fd, &exceptOthers);
             }
-            if (readSet) *readSet = readOthers;
-            if (writeSet) *writeSet = writeOthers;
-            if (exceptSet) *exceptSet = exceptOthers;
+            if (readSet)
+                *readSet = readOthers;
+            if (writeSet)
+                *writeSet = writeOthers;
+            if (exceptSet)
+                *exceptSet = exceptOthers;
             return total;
         }
     }
@@ -300,7 +302,7 @@ __attribute__((visibility("default"))) int close(int fd)
     {
         Registry& r = registry();
         const std::lock_guard lock(r.mutex);
-        r.devices.erase(fd);  // unmaps and closes the device's memfd; client mappings stay valid
+        r.devices.erase(fd); // unmaps and closes the device's memfd; client mappings stay valid
     }
     return real::close(fd);
 }

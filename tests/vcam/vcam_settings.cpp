@@ -1,10 +1,10 @@
 #include "vcam/vcam_settings.h"
 
-#include <linux/videodev2.h>
-
 #include <charconv>
 #include <cstdlib>
 #include <string_view>
+
+#include <linux/videodev2.h>
 
 namespace lumar::vcam {
 namespace {

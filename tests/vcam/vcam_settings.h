@@ -19,13 +19,13 @@ namespace lumar::vcam {
 
 struct Settings {
     std::string devicePath = "/dev/video0";
-    std::vector<uint32_t> pixelFormats;  // never empty after settingsFromEnvironment()
+    std::vector<uint32_t> pixelFormats; // never empty after settingsFromEnvironment()
     bool bt709 = false;
     bool fullRange = false;
-    int64_t unplugAt = -1;  // -1: off
+    int64_t unplugAt = -1; // -1: off
     int64_t stallAt = -1;
     int64_t stallMs = 0;
-    int64_t dropEvery = 0;  // 0: off
+    int64_t dropEvery = 0; // 0: off
     int64_t shortEvery = 0;
 };
 

@@ -1,15 +1,15 @@
 #include "vcam/virtual_device.h"
 
-#include <poll.h>
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <limits>
+
+#include <poll.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include "vcam/real_libc.h"
 #include "vcam/vcam_pattern.h"
@@ -50,8 +50,7 @@ namespace {
 
 bool supportedSize(uint32_t width, uint32_t height)
 {
-    return std::any_of(kSizes.begin(), kSizes.end(),
-                       [&](Size s) { return s.width == width && s.height == height; });
+    return std::any_of(kSizes.begin(), kSizes.end(), [&](Size s) { return s.width == width && s.height == height; });
 }
 
 void copyName(uint8_t* out, size_t capacity, const char* text)
@@ -79,7 +78,7 @@ VirtualDevice::~VirtualDevice()
 void VirtualDevice::setFormat(v4l2_pix_format& format) const
 {
     if (!supportedFormat(format.pixelformat)) {
-        format.pixelformat = settings_.pixelFormats.front();  // V4L2 drivers substitute, they do not refuse
+        format.pixelformat = settings_.pixelFormats.front(); // V4L2 drivers substitute, they do not refuse
     }
     // The closest offered size by area.
     const auto area = [](uint32_t w, uint32_t h) { return int64_t(w) * int64_t(h); };
@@ -133,13 +132,13 @@ void VirtualDevice::advance(int64_t nowNs)
         ++frameIndex_;
         const bool dropped = settings_.dropEvery > 0 && (index + 1) % settings_.dropEvery == 0;
         if (dropped || queued_.empty()) {
-            continue;  // the sequence number is spent, no buffer filled
+            continue; // the sequence number is spent, no buffer filled
         }
         const uint32_t bufferIndex = queued_.front();
         queued_.pop_front();
         Buffer& buffer = buffers_[bufferIndex];
-        PatternFormat pattern{format_.pixelformat, int(format_.width),     int(format_.height),
-                              format_.bytesperline, settings_.bt709,       settings_.fullRange};
+        PatternFormat pattern{format_.pixelformat,  int(format_.width), int(format_.height),
+                              format_.bytesperline, settings_.bt709,    settings_.fullRange};
         drawPattern(pattern, index, memory_ + size_t(bufferIndex) * bufferStride_);
         buffer.state = BufferState::Done;
         buffer.sequence = uint32_t(index);
@@ -463,7 +462,7 @@ int VirtualDevice::ioctl(unsigned long request, void* arg, int64_t nowNs)
     case VIDIOC_S_INPUT:
         return *static_cast<int*>(arg) == 0 ? 0 : EINVAL;
     default:
-        return ENOTTY;  // what V4L2 answers for an ioctl a driver does not implement
+        return ENOTTY; // what V4L2 answers for an ioctl a driver does not implement
     }
 }
 

@@ -3,13 +3,13 @@
 // Not thread-safe by itself: the interposers serialise every call with one lock.
 #pragma once
 
-#include <linux/videodev2.h>
-#include <sys/types.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <vector>
+
+#include <linux/videodev2.h>
+#include <sys/types.h>
 
 #include "vcam/vcam_settings.h"
 
@@ -80,7 +80,7 @@ private:
     bool streaming_ = false;
     bool unplugged_ = false;
     int64_t streamStartNs_ = 0;
-    int64_t frameIndex_ = 0;  // the next frame to fall due; equals its V4L2 sequence number
+    int64_t frameIndex_ = 0; // the next frame to fall due; equals its V4L2 sequence number
 };
 
 } // namespace lumar::vcam

@@ -1,11 +1,11 @@
 // A move-only owner of one mmap()ed region (a V4L2 capture buffer), unmapped on destruction.
 #pragma once
 
-#include <sys/mman.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <utility>
+
+#include <sys/mman.h>
 
 namespace lumar {
 

@@ -69,7 +69,7 @@ std::vector<uint32_t> enumeratePixelFormats(const std::string& device, int fd)
         description.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
         const int error = v4l2Ioctl(fd, VIDIOC_ENUM_FMT, &description);
         if (error == EINVAL) {
-            break;  // the end of the list
+            break; // the end of the list
         }
         if (error != 0) {
             throwDeviceError(device, "VIDIOC_ENUM_FMT", error);
@@ -79,8 +79,7 @@ std::vector<uint32_t> enumeratePixelFormats(const std::string& device, int fd)
     return formats;
 }
 
-std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, uint32_t pixelFormat,
-                                           FrameSize requested)
+std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, uint32_t pixelFormat, FrameSize requested)
 {
     std::vector<FrameSize> sizes;
     for (uint32_t index = 0;; ++index) {
@@ -89,7 +88,7 @@ std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, ui
         size.pixel_format = pixelFormat;
         const int error = v4l2Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &size);
         if (error == EINVAL || error == ENOTTY) {
-            break;  // the end of the list, or a driver that does not enumerate sizes
+            break; // the end of the list, or a driver that does not enumerate sizes
         }
         if (error != 0) {
             throwDeviceError(device, "VIDIOC_ENUM_FRAMESIZES", error);
@@ -109,7 +108,7 @@ std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, ui
         break;
     }
     if (sizes.empty()) {
-        sizes.push_back(requested);  // let S_FMT adjust it
+        sizes.push_back(requested); // let S_FMT adjust it
     }
     return sizes;
 }

@@ -2,11 +2,11 @@
 // frame sizes lumar asks for, and what colorimetry the accepted format carries.
 #pragma once
 
-#include <linux/videodev2.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <linux/videodev2.h>
 
 #include "capture/v4l2/ycbcr_to_rgb.h"
 

@@ -1,9 +1,9 @@
 #include "capture/v4l2/v4l2_ioctl.h"
 
-#include <sys/ioctl.h>
-
 #include <cerrno>
 #include <cstring>
+
+#include <sys/ioctl.h>
 
 #include "core/error.h"
 

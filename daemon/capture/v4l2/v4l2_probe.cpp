@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fcntl.h>
 #include <filesystem>
+
+#include <fcntl.h>
 #include <linux/videodev2.h>
 
 #include "capture/v4l2/v4l2_ioctl.h"

@@ -11,7 +11,7 @@ namespace lumar {
 
 struct V4l2FormatInfo {
     std::string fourcc;
-    bool convertible = false;  // lumar can capture it (NV12, YUYV, GREY)
+    bool convertible = false; // lumar can capture it (NV12, YUYV, GREY)
     std::vector<FrameSize> sizes;
 };
 
@@ -20,7 +20,7 @@ struct V4l2DeviceInfo {
     std::string card, driver, busInfo;
     bool streamingCapture = false;
     std::vector<V4l2FormatInfo> formats;
-    std::string error;  // set when the device could not be queried
+    std::string error; // set when the device could not be queried
 };
 
 // /dev/video* nodes, sorted.

@@ -1,17 +1,17 @@
 #include "capture/v4l2/v4l2_source.h"
 
-#include <fcntl.h>
-#include <linux/videodev2.h>
-#include <poll.h>
-#include <sys/mman.h>
-#include <time.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
+
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <poll.h>
+#include <sys/mman.h>
+#include <time.h>
 
 #include "capture/v4l2/v4l2_format.h"
 #include "capture/v4l2/v4l2_ioctl.h"
@@ -50,8 +50,8 @@ V4l2Source::V4l2Source(V4l2Options options) : options_(std::move(options))
 
     v4l2_capability capability{};
     v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_QUERYCAP, &capability, "VIDIOC_QUERYCAP (not a V4L2 device?)");
-    const uint32_t caps = (capability.capabilities & V4L2_CAP_DEVICE_CAPS) ? capability.device_caps
-                                                                             : capability.capabilities;
+    const uint32_t caps =
+        (capability.capabilities & V4L2_CAP_DEVICE_CAPS) ? capability.device_caps : capability.capabilities;
     if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
         throw RuntimeError(device + ": not a streaming video capture device (single-planar capture and "
                                     "streaming I/O are required)");
@@ -174,8 +174,8 @@ void V4l2Source::mapBuffers()
             throw RuntimeError(device + ": buffer " + std::to_string(index) + " holds " +
                                std::to_string(buffer.length) + " bytes, the image needs " + std::to_string(imageSize_));
         }
-        void* address = ::mmap(nullptr, buffer.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_.get(),
-                               off_t(buffer.m.offset));
+        void* address =
+            ::mmap(nullptr, buffer.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_.get(), off_t(buffer.m.offset));
         if (address == MAP_FAILED) {
             throwDeviceError(device, "mmap of a capture buffer", errno);
         }
@@ -242,8 +242,8 @@ bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer)
     if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < imageSize_) {
         ++framesCorrupt_;
         LUMAR_LOG(Capture, Warn) << device << ": frame " << buffer.sequence << " is corrupt (" << buffer.bytesused
-                                 << " of " << imageSize_ << " bytes" << ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : "")
-                                 << "); skipped";
+                                 << " of " << imageSize_ << " bytes"
+                                 << ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : "") << "); skipped";
         queueBuffer(buffer.index);
         return false;
     }
@@ -255,13 +255,12 @@ bool V4l2Source::next(Frame& frame)
     v4l2_buffer buffer{};
     while (!dequeueGoodBuffer(buffer)) {
     }
-    const bool monotonic =
-        (buffer.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+    const bool monotonic = (buffer.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
     frame.sequence = buffer.sequence;
     // A driver without monotonic timestamps gets the dequeue time: late, but on the right clock.
-    frame.timestampNs = monotonic ? int64_t(buffer.timestamp.tv_sec) * 1'000'000'000 +
-                                        int64_t(buffer.timestamp.tv_usec) * 1000
-                                  : monotonicNowNs();
+    frame.timestampNs =
+        monotonic ? int64_t(buffer.timestamp.tv_sec) * 1'000'000'000 + int64_t(buffer.timestamp.tv_usec) * 1000
+                  : monotonicNowNs();
     convert(buffers_[buffer.index].data(), frame);
     queueBuffer(buffer.index);
     return true;

@@ -3,27 +3,27 @@
 // A failed device throws RuntimeError; reconnecting after an unplug is the caller's job.
 #pragma once
 
-#include <linux/videodev2.h>
-
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <linux/videodev2.h>
+
 #include "capture/capture_source.h"
 #include "capture/v4l2/mapped_region.h"
-#include "core/unique_fd.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
+#include "core/unique_fd.h"
 
 namespace lumar {
 
 struct V4l2Options {
     std::string device = "/dev/video0";
-    int width = 1280;            // requested; the device's closest size wins
+    int width = 1280; // requested; the device's closest size wins
     int height = 720;
-    double fps = 30.0;           // requested frame rate (VIDIOC_S_PARM); the driver may adjust it
-    int bufferCount = 4;         // MMAP buffers requested (at least 4 are used)
-    int frameTimeoutMs = 2000;   // next() throws when no frame arrives for this long
+    double fps = 30.0;         // requested frame rate (VIDIOC_S_PARM); the driver may adjust it
+    int bufferCount = 4;       // MMAP buffers requested (at least 4 are used)
+    int frameTimeoutMs = 2000; // next() throws when no frame arrives for this long
 };
 
 class V4l2Source final : public CaptureSource {
@@ -62,7 +62,7 @@ private:
 
     V4l2Options options_;
     UniqueFd fd_;
-    std::vector<MappedRegion> buffers_;  // destroyed before fd_: unmapped before the close
+    std::vector<MappedRegion> buffers_; // destroyed before fd_: unmapped before the close
     bool streaming_ = false;
     uint32_t pixelFormat_ = 0;
     int width_ = 0;

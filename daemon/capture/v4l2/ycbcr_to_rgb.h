@@ -16,7 +16,7 @@ enum class YCbCrMatrix { Bt601, Bt709 };
 
 struct YCbCrColorimetry {
     YCbCrMatrix matrix = YCbCrMatrix::Bt601;
-    bool fullRange = false;  // false: Y in [16, 235], Cb/Cr in [16, 240]
+    bool fullRange = false; // false: Y in [16, 235], Cb/Cr in [16, 240]
 };
 
 // One colorimetry's conversion as lookup tables in 16.16 fixed point, built once per stream.
@@ -39,9 +39,9 @@ private:
                     uint8_t* lumaOut) const;
 
     YCbCrColorimetry colorimetry_;
-    std::array<int32_t, 256> yTerm_{};      // Y expanded to full range, 16.16
+    std::array<int32_t, 256> yTerm_{}; // Y expanded to full range, 16.16
     std::array<int32_t, 256> crToRed_{};
-    std::array<int32_t, 256> cbToGreen_{};  // both green terms are subtracted
+    std::array<int32_t, 256> cbToGreen_{}; // both green terms are subtracted
     std::array<int32_t, 256> crToGreen_{};
     std::array<int32_t, 256> cbToBlue_{};
 };

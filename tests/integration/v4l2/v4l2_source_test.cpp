@@ -1,12 +1,11 @@
 // The V4L2 backend against the user-space virtual camera (tests/vcam, preloaded by ctest):
 // streaming, colorimetry, and the injected faults. Each test configures the device through
 // LUMAR_VCAM_* variables before opening it (the device reads them at open()).
-#include <linux/videodev2.h>
-
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <string>
+
+#include <gtest/gtest.h>
+#include <linux/videodev2.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,14 +26,13 @@ class V4l2SourceTest : public ::testing::Test {
 protected:
     void SetUp() override
     {
-        if (std::getenv("LD_PRELOAD") == nullptr || std::string(std::getenv("LD_PRELOAD")).find("lumar_vcam") ==
-                                                         std::string::npos) {
+        if (std::getenv("LD_PRELOAD") == nullptr ||
+            std::string(std::getenv("LD_PRELOAD")).find("lumar_vcam") == std::string::npos) {
             GTEST_SKIP() << "run through ctest, which preloads liblumar_vcam.so";
         }
-        for (const char* name :
-             {"LUMAR_VCAM_FORMATS", "LUMAR_VCAM_YCBCR_ENC", "LUMAR_VCAM_QUANTIZATION", "LUMAR_VCAM_FAULT_UNPLUG_AT",
-              "LUMAR_VCAM_FAULT_STALL_AT", "LUMAR_VCAM_FAULT_STALL_MS", "LUMAR_VCAM_FAULT_DROP_EVERY",
-              "LUMAR_VCAM_FAULT_SHORT_EVERY"}) {
+        for (const char* name : {"LUMAR_VCAM_FORMATS", "LUMAR_VCAM_YCBCR_ENC", "LUMAR_VCAM_QUANTIZATION",
+                                 "LUMAR_VCAM_FAULT_UNPLUG_AT", "LUMAR_VCAM_FAULT_STALL_AT", "LUMAR_VCAM_FAULT_STALL_MS",
+                                 "LUMAR_VCAM_FAULT_DROP_EVERY", "LUMAR_VCAM_FAULT_SHORT_EVERY"}) {
             unsetenv(name);
         }
     }
@@ -46,7 +44,7 @@ protected:
         o.width = width;
         o.height = height;
         o.fps = 60.0;
-        o.bufferCount = 8;  // slack for a loaded test machine: zero drops must hold
+        o.bufferCount = 8; // slack for a loaded test machine: zero drops must hold
         return o;
     }
 };
@@ -127,7 +125,7 @@ TEST_F(V4l2SourceTest, PrefersNv12AndNegotiatesRequestedSize)
 
 TEST_F(V4l2SourceTest, ClosestSizeWhenTheRequestIsNotOffered)
 {
-    V4l2Source source(options(800, 600));  // offered: 640x480, 1280x720
+    V4l2Source source(options(800, 600)); // offered: 640x480, 1280x720
     EXPECT_EQ(source.width(), 640);
     EXPECT_EQ(source.height(), 480);
 }
@@ -138,8 +136,8 @@ TEST_F(V4l2SourceTest, StreamsSixtyFramesInEachFormat)
         const char* formats;
         uint32_t expected;
     };
-    for (Offer offer : {Offer{"YUYV", V4L2_PIX_FMT_YUYV}, Offer{"GREY,NV12", V4L2_PIX_FMT_NV12},
-                        Offer{"GREY", V4L2_PIX_FMT_GREY}}) {
+    for (Offer offer :
+         {Offer{"YUYV", V4L2_PIX_FMT_YUYV}, Offer{"GREY,NV12", V4L2_PIX_FMT_NV12}, Offer{"GREY", V4L2_PIX_FMT_GREY}}) {
         setenv("LUMAR_VCAM_FORMATS", offer.formats, 1);
         V4l2Source source(options());
         ASSERT_EQ(source.pixelFormat(), offer.expected) << offer.formats;
@@ -194,7 +192,7 @@ TEST_F(V4l2SourceTest, SkipsShortFrames)
         EXPECT_LE(worstBarError(frame, false), 2);
     }
     EXPECT_EQ(source.framesCorrupt(), (frame.sequence + 1) / 5);
-    EXPECT_EQ(source.framesDropped(), 0u);  // short frames are corrupt, not dropped
+    EXPECT_EQ(source.framesDropped(), 0u); // short frames are corrupt, not dropped
 }
 
 TEST_F(V4l2SourceTest, UnplugGivesARuntimeError)

@@ -1,14 +1,13 @@
 // The CPU YCbCr → RGB conversion of the V4L2 backend against the virtual camera's colour
 // bars, whose YCbCr values come from the forward BT.601/709 equations (tests/vcam), and
 // against hand-computed reference values.
-#include <linux/videodev2.h>
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
+
+#include <gtest/gtest.h>
+#include <linux/videodev2.h>
 
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "vcam/vcam_pattern.h"
@@ -124,7 +123,7 @@ TEST(YCbCrConverter, HandComputedLimitedRangeValues)
     }
     EXPECT_EQ(luma.data[0], 0);
     EXPECT_EQ(luma.data[1], 255);
-    EXPECT_EQ(luma.data[2], 76);  // (81 − 16)·255/219 = 75.7
+    EXPECT_EQ(luma.data[2], 76); // (81 − 16)·255/219 = 75.7
 }
 
 TEST(YCbCrConverter, ConversionCostAt720p)
@@ -138,7 +137,7 @@ TEST(YCbCrConverter, ConversionCostAt720p)
         const YCbCrConverter converter({YCbCrMatrix::Bt601, false});
         Image8 rgb;
         Image8 luma;
-        convert(converter, format, data, width, height, rgb, luma);  // warm-up, allocates
+        convert(converter, format, data, width, height, rgb, luma); // warm-up, allocates
         const int repetitions = 20;
         const auto start = std::chrono::steady_clock::now();
         for (int i = 0; i < repetitions; ++i) {

@@ -1,5 +1,5 @@
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -139,7 +139,8 @@ TEST_F(CalibrationFiles, ShortAndLongDistortionVectors)
 
 TEST_F(CalibrationFiles, MalformedYamlIsAnInputError)
 {
-    const fs::path broken = write("broken.yaml", "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n  rows: [3\n cols: }\n");
+    const fs::path broken =
+        write("broken.yaml", "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n  rows: [3\n cols: }\n");
     expectInputError(broken, broken.string() + ":5: malformed file");
     expectInputError(write("binary.yaml", std::string("garbage \x01\x02 {{{", 14)), "cannot parse");
     expectInputError(write("empty.yaml", ""), "empty file");
@@ -147,8 +148,9 @@ TEST_F(CalibrationFiles, MalformedYamlIsAnInputError)
     std::string noType = calibrationText(kGoodMatrix, "0, 0, 0, 0, 0");
     noType.replace(noType.rfind("dt: d"), 5, ":dt: d");
     expectInputError(write("no_type.yaml", noType), "cannot parse");
-    const std::string shortData = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
-                                  "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1, 2 ]\n";
+    const std::string shortData =
+        "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+        "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1, 2 ]\n";
     expectInputError(write("short_data.yaml", shortData), "camera_matrix: not a valid !!opencv-matrix");
 }
 
@@ -160,7 +162,8 @@ TEST_F(CalibrationFiles, MissingKeysAreInputErrors)
                      "missing key 'image_width'");
     const std::string noDistortion = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
                                      "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                                     "   data: [ " + kGoodMatrix + " ]\n";
+                                     "   data: [ " +
+                                     kGoodMatrix + " ]\n";
     expectInputError(write("no_distortion.yaml", noDistortion), "missing key 'distortion_coefficients'");
 }
 
@@ -173,12 +176,12 @@ TEST_F(CalibrationFiles, ImplausibleValuesAreInputErrors)
                      "principal point");
     expectInputError(write("skew.yaml", calibrationText("500., 2., 320., 0., 510., 240., 0., 0., 1.", zeros)),
                      "[fx 0 cx; 0 fy cy; 0 0 1]");
-    expectInputError(write("nan.yaml", calibrationText("500., 0., .NaN, 0., 510., 240., 0., 0., 1.", zeros)),
-                     "finite");
+    expectInputError(write("nan.yaml", calibrationText("500., 0., .NaN, 0., 510., 240., 0., 0., 1.", zeros)), "finite");
     expectInputError(write("wide.yaml", calibrationText(kGoodMatrix, zeros, "image_width: 20000\nimage_height: 480\n")),
                      "image_width");
-    expectInputError(write("real_width.yaml", calibrationText(kGoodMatrix, zeros, "image_width: 640.5\nimage_height: 480\n")),
-                     "image_width: expected an integer");
+    expectInputError(
+        write("real_width.yaml", calibrationText(kGoodMatrix, zeros, "image_width: 640.5\nimage_height: 480\n")),
+        "image_width: expected an integer");
     const std::string notMatrix = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\ncamera_matrix: 5\n";
     expectInputError(write("scalar_matrix.yaml", notMatrix), "camera_matrix");
     const std::string fourByThree = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"

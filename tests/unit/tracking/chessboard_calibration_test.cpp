@@ -37,7 +37,7 @@ std::vector<fs::path> sampleImages()
 
 // The 13 images are calibrated once for the whole suite: it is the slow part.
 class SampleCalibration : public testing::Test {
-  protected:
+protected:
     static void SetUpTestSuite()
     {
         const auto start = std::chrono::steady_clock::now();
@@ -58,7 +58,7 @@ class SampleCalibration : public testing::Test {
     }
     static const ChessboardCalibration& calibration() { return *calibration_; }
 
-  private:
+private:
     static inline ChessboardCalibration* calibration_ = nullptr;
 };
 
@@ -118,7 +118,7 @@ TEST_F(SampleCalibration, PerImageErrorsAgreeWithTheOverallRmsAndOpenCv)
 
 // A fresh directory per test (ctest runs tests as parallel processes), removed afterwards.
 class CalibrationFolder : public testing::Test {
-  protected:
+protected:
     void SetUp() override
     {
         const auto* info = testing::UnitTest::GetInstance()->current_test_info();

@@ -30,12 +30,11 @@ TEST(DetectionJson, ExactLineForHandMadeDetections)
     withoutPose.decisionMargin = 12.5;
     withoutPose.corners = {glm::dvec2{10, 20}, {30, 20}, {30, 0}, {10, 0}};
     const std::string json = detectionsToJson("frames/a.png", {handMadeDetection(), withoutPose});
-    EXPECT_EQ(json,
-              "{\"file\":\"frames/a.png\",\"detections\":["
-              "{\"id\":3,\"hamming\":1,\"margin\":57.25,"
-              "\"corners\":[[1.5,2.25],[100.125,2],[100,99.5],[1.234e-06,-0.5]],"
-              "\"R\":[[0.1,0.2,0.3],[0.4,0.5,0.6],[0.7,0.8,0.9]],\"t\":[0.1,-0.2,1.23456789]},"
-              "{\"id\":7,\"hamming\":0,\"margin\":12.5,\"corners\":[[10,20],[30,20],[30,0],[10,0]]}]}");
+    EXPECT_EQ(json, "{\"file\":\"frames/a.png\",\"detections\":["
+                    "{\"id\":3,\"hamming\":1,\"margin\":57.25,"
+                    "\"corners\":[[1.5,2.25],[100.125,2],[100,99.5],[1.234e-06,-0.5]],"
+                    "\"R\":[[0.1,0.2,0.3],[0.4,0.5,0.6],[0.7,0.8,0.9]],\"t\":[0.1,-0.2,1.23456789]},"
+                    "{\"id\":7,\"hamming\":0,\"margin\":12.5,\"corners\":[[10,20],[30,20],[30,0],[10,0]]}]}");
     EXPECT_EQ(json.find('\n'), std::string::npos);
 }
 

@@ -20,7 +20,7 @@ const std::string kDataDir = std::string(LUMAR_TEST_DATA_DIR) + "/apriltag/real/
 
 struct ExpectedDetection {
     int id = -1;
-    std::array<glm::dvec2, 4> corners{};  // the library's pixel convention
+    std::array<glm::dvec2, 4> corners{}; // the library's pixel convention
 };
 
 // One line per tag: "ID, (x0 y0), (x1 y1), (x2 y2), (x3 y3)".

@@ -19,18 +19,18 @@ namespace {
 
 using test::radians;
 
-constexpr double kTagSize = 0.16;     // the 8x8 black-bordered part, metres
-constexpr int kTagCells = 10;         // the PNG: 8x8 tag plus a 1-cell white frame
-constexpr int kTexelsPerCell = 16;    // nearest-neighbour upscale of the PNG
-constexpr int kSupersampling = 4;     // rendered at 4x and box-filtered down: smooth edges
+constexpr double kTagSize = 0.16;  // the 8x8 black-bordered part, metres
+constexpr int kTagCells = 10;      // the PNG: 8x8 tag plus a 1-cell white frame
+constexpr int kTexelsPerCell = 16; // nearest-neighbour upscale of the PNG
+constexpr int kSupersampling = 4;  // rendered at 4x and box-filtered down: smooth edges
 
 // Renders the tag36h11 id 0 PNG seen by camera `k` with `cameraFromMarker` over a grey
 // background. Pixel centres sit at integer coordinates in the texture, the high-resolution
 // and the final image alike (OpenCV's convention, which warpPerspective follows).
 cv::Mat renderTag(const Pose& cameraFromMarker, const CameraIntrinsics& k)
 {
-    const cv::Mat png = cv::imread(std::string(LUMAR_TEST_DATA_DIR) + "/apriltag/tag36h11/tag36_11_00000.png",
-                                   cv::IMREAD_GRAYSCALE);
+    const cv::Mat png =
+        cv::imread(std::string(LUMAR_TEST_DATA_DIR) + "/apriltag/tag36h11/tag36_11_00000.png", cv::IMREAD_GRAYSCALE);
     EXPECT_EQ(png.cols, kTagCells);
     cv::Mat texture;
     cv::resize(png, texture, {}, kTexelsPerCell, kTexelsPerCell, cv::INTER_NEAREST);
@@ -52,8 +52,9 @@ cv::Mat renderTag(const Pose& cameraFromMarker, const CameraIntrinsics& k)
     const cv::Matx33d texelToHighRes = toHighRes * K * planeToCamera * markerFromTexel;
 
     cv::Mat highRes;
-    cv::warpPerspective(texture, highRes, cv::Mat(texelToHighRes), {k.width * kSupersampling, k.height * kSupersampling},
-                        cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(128));
+    cv::warpPerspective(texture, highRes, cv::Mat(texelToHighRes),
+                        {k.width * kSupersampling, k.height * kSupersampling}, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                        cv::Scalar(128));
     cv::Mat image;
     cv::resize(highRes, image, {k.width, k.height}, 0, 0, cv::INTER_AREA);
     return image;
@@ -102,7 +103,8 @@ void expectDetectedAsRendered(const TrackingConfig& config)
         EXPECT_LT(translation, 0.01);
         std::printf("rendered tag, %s, quad_decimate %g: worst corner %.3f px, mean offset %.3f px, rotation %.3f deg, "
                     "translation %.3f %%\n",
-                    c.name, config.quadDecimate, worstCorner, glm::length(meanOffset), rotationDeg, 100.0 * translation);
+                    c.name, config.quadDecimate, worstCorner, glm::length(meanOffset), rotationDeg,
+                    100.0 * translation);
     }
 }
 
@@ -134,7 +136,7 @@ TEST(RenderedTag, UprightTagHasP0BottomLeftAndP3TopLeft)
     EXPECT_LT(p[2].y, k.cy);
     EXPECT_LT(p[3].x, k.cx);
     EXPECT_LT(p[3].y, k.cy);
-    EXPECT_FALSE(detections[0].hasPose);  // no size known for the tag
+    EXPECT_FALSE(detections[0].hasPose); // no size known for the tag
 }
 
 TEST(RenderedTag, QuadSigmaBlurLeavesTheCallersImageUntouched)
@@ -188,9 +190,9 @@ TEST(TagTrackerSettings, BadSettingsAndImagesAreInputErrors)
     EXPECT_THROW(TagTracker(TrackingConfig{}, CameraIntrinsics{}, TagSizes{}), InputError);
 
     TagTracker tracker(TrackingConfig{}, k, TagSizes{});
-    EXPECT_THROW((void)tracker.detect(Image8(64, 48, 3)), InputError);  // not luma
-    EXPECT_THROW((void)tracker.detect(Image8(32, 48, 1)), InputError);  // not the calibrated size
-    EXPECT_TRUE(tracker.detect(Image8(64, 48, 1)).empty());             // blank frame
+    EXPECT_THROW((void)tracker.detect(Image8(64, 48, 3)), InputError); // not luma
+    EXPECT_THROW((void)tracker.detect(Image8(32, 48, 1)), InputError); // not the calibrated size
+    EXPECT_TRUE(tracker.detect(Image8(64, 48, 1)).empty());            // blank frame
 }
 
 TEST(TagTrackerSettings, TinyImagesGiveNoDetections)

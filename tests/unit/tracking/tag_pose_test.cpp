@@ -79,7 +79,7 @@ void expectExactRecovery(const CameraIntrinsics& k)
 {
     double worstRotation = 0.0, worstTranslation = 0.0;
     const std::vector<PoseCase> cases = poseGrid(k, {0.3, 0.8, 1.5, 3.0}, {0.0, 20.0, 45.0, 70.0});
-    EXPECT_GE(cases.size(), 56u);  // of 64
+    EXPECT_GE(cases.size(), 56u); // of 64
     for (const PoseCase& c : cases) {
         SCOPED_TRACE(testing::Message() << "d " << c.distance << " tilt " << c.tiltDeg << " spin " << c.spinDeg);
         const auto corners = projectTagCorners(c.truth, kTagSize, k);
@@ -94,8 +94,8 @@ void expectExactRecovery(const CameraIntrinsics& k)
         worstRotation = std::max(worstRotation, rotationError);
         worstTranslation = std::max(worstTranslation, translationError);
     }
-    std::printf("exact corners, %dx%d, %zu poses: worst rotation error %.2e rad, translation %.2e relative\n",
-                k.width, k.height, cases.size(), worstRotation, worstTranslation);
+    std::printf("exact corners, %dx%d, %zu poses: worst rotation error %.2e rad, translation %.2e relative\n", k.width,
+                k.height, cases.size(), worstRotation, worstTranslation);
 }
 
 TEST(TagPose, ExactCornersGiveTheExactPoseIdealCamera)
@@ -110,7 +110,7 @@ TEST(TagPose, ExactCornersGiveTheExactPoseDistortedCamera)
 
 struct NoiseStats {
     double worstRotationDeg = 0.0;
-    double worstTranslation = 0.0;  // relative to the distance
+    double worstTranslation = 0.0; // relative to the distance
     int failures = 0;
 };
 
@@ -150,7 +150,8 @@ TEST(TagPose, NoisyCornersWellConditioned)
     } setups[] = {{defaultIntrinsics(1280, 720), {0.3, 0.8, 1.2}}, {distortedCamera(), {0.3, 0.8}}};
     uint32_t seed = 1;
     for (const auto& setup : setups) {
-        const NoiseStats stats = solveWithNoise(poseGrid(setup.k, setup.distances, {30.0, 45.0, 70.0}), setup.k, 50, seed++);
+        const NoiseStats stats =
+            solveWithNoise(poseGrid(setup.k, setup.distances, {30.0, 45.0, 70.0}), setup.k, 50, seed++);
         std::printf("0.2 px noise, %dx%d, tilts 30-70 deg: worst rotation %.3f deg, translation %.3f %%\n",
                     setup.k.width, setup.k.height, stats.worstRotationDeg, 100.0 * stats.worstTranslation);
         EXPECT_EQ(stats.failures, 0);
@@ -188,13 +189,13 @@ TEST(TagPose, CornerOrderConvention)
     // Marker +y maps to camera -y: up in the image.
     EXPECT_EQ(upright.R * glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0));
     const auto p = projectTagCorners(upright, kTagSize, k);
-    EXPECT_LT(p[0].x, k.cx);  // bottom-left
+    EXPECT_LT(p[0].x, k.cx); // bottom-left
     EXPECT_GT(p[0].y, k.cy);
-    EXPECT_GT(p[1].x, k.cx);  // bottom-right
+    EXPECT_GT(p[1].x, k.cx); // bottom-right
     EXPECT_GT(p[1].y, k.cy);
-    EXPECT_GT(p[2].x, k.cx);  // top-right
+    EXPECT_GT(p[2].x, k.cx); // top-right
     EXPECT_LT(p[2].y, k.cy);
-    EXPECT_LT(p[3].x, k.cx);  // top-left
+    EXPECT_LT(p[3].x, k.cx); // top-left
     EXPECT_LT(p[3].y, k.cy);
 
     Pose estimate;
@@ -235,7 +236,7 @@ TEST(TagPose, TagBehindTheCameraIsRejected)
         const glm::dmat3 facingCameraFromBehind =
             test::axisAngle({0, 0, 1}, radians(spin)) * test::axisAngle({1, 0.3, 0}, radians(25.0));
         const Pose behind{facingCameraFromBehind, {0.05, -0.03, -0.8}};
-        ASSERT_LT(glm::dot(behind.R * glm::dvec3(0, 0, 1), behind.t), 0.0);  // faces the camera
+        ASSERT_LT(glm::dot(behind.R * glm::dvec3(0, 0, 1), behind.t), 0.0); // faces the camera
         std::array<glm::dvec2, 4> corners;
         const auto marker = tagCornersInMarkerFrame(kTagSize);
         for (size_t i = 0; i < 4; ++i)
@@ -252,10 +253,10 @@ TEST(TagPose, GarbageCornersAreRejected)
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const std::array<glm::dvec2, 4> good{glm::dvec2{600, 400}, {700, 400}, {700, 300}, {600, 300}};
     const std::vector<std::array<glm::dvec2, 4>> garbage{
-        {glm::dvec2{640, 360}, {640, 360}, {640, 360}, {640, 360}},  // one point
-        {glm::dvec2{600, 360}, {650, 360}, {700, 360}, {750, 360}},  // collinear
-        {glm::dvec2{600, 400}, {700, 300}, {700, 400}, {600, 300}},  // self-intersecting
-        {glm::dvec2{600, 400}, {700, 400}, {nan, 300}, {600, 300}},  // not a number
+        {glm::dvec2{640, 360}, {640, 360}, {640, 360}, {640, 360}}, // one point
+        {glm::dvec2{600, 360}, {650, 360}, {700, 360}, {750, 360}}, // collinear
+        {glm::dvec2{600, 400}, {700, 300}, {700, 400}, {600, 300}}, // self-intersecting
+        {glm::dvec2{600, 400}, {700, 400}, {nan, 300}, {600, 300}}, // not a number
     };
     Pose estimate;
     double rms = 0.0;

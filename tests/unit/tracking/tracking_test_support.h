@@ -18,8 +18,14 @@
 namespace lumar::test {
 
 inline constexpr double kPi = 3.14159265358979323846;
-inline double degrees(double radians) { return radians * 180.0 / kPi; }
-inline double radians(double degrees) { return degrees * kPi / 180.0; }
+inline double degrees(double radians)
+{
+    return radians * 180.0 / kPi;
+}
+inline double radians(double degrees)
+{
+    return degrees * kPi / 180.0;
+}
 
 inline Image8 toImage8(const cv::Mat& gray)
 {
