@@ -71,14 +71,24 @@ const toml::node* TableReader::find(std::string_view key)
     return node;
 }
 
+template <typename T>
+const toml::value<T>* TableReader::typed(std::string_view key, const char* expected, const toml::node*& node)
+{
+    node = find(key);
+    if (!node)
+        return nullptr;
+    const auto* value = node->as<T>();
+    if (!value)
+        fail(node, key, std::string("expected ") + expected + ", found " + typeName(*node));
+    return value;
+}
+
 void TableReader::integer(std::string_view key, int& out, long long min, long long max)
 {
-    const toml::node* node = find(key);
-    if (!node)
-        return;
-    const auto* v = node->as_integer();
+    const toml::node* node = nullptr;
+    const auto* v = typed<int64_t>(key, "an integer", node);
     if (!v)
-        fail(node, key, std::string("expected an integer, found ") + typeName(*node));
+        return;
     const long long value = v->get();
     if (value < min || value > max)
         fail(node, key,
@@ -88,17 +98,13 @@ void TableReader::integer(std::string_view key, int& out, long long min, long lo
 
 void TableReader::unsignedInteger(std::string_view key, uint64_t& out)
 {
-    int64_t value = 0;
-    const toml::node* node = find(key);
-    if (!node)
-        return;
-    const auto* v = node->as_integer();
+    const toml::node* node = nullptr;
+    const auto* v = typed<int64_t>(key, "an integer", node);
     if (!v)
-        fail(node, key, std::string("expected an integer, found ") + typeName(*node));
-    value = v->get();
-    if (value < 0)
+        return;
+    if (v->get() < 0)
         fail(node, key, "must not be negative");
-    out = uint64_t(value);
+    out = uint64_t(v->get());
 }
 
 void TableReader::number(std::string_view key, double& out, double min, double max, bool minExclusive)
@@ -123,24 +129,16 @@ void TableReader::number(std::string_view key, double& out, double min, double m
 
 void TableReader::boolean(std::string_view key, bool& out)
 {
-    const toml::node* node = find(key);
-    if (!node)
-        return;
-    const auto* v = node->as_boolean();
-    if (!v)
-        fail(node, key, std::string("expected true or false, found ") + typeName(*node));
-    out = v->get();
+    const toml::node* node = nullptr;
+    if (const auto* v = typed<bool>(key, "true or false", node))
+        out = v->get();
 }
 
 void TableReader::string(std::string_view key, std::string& out)
 {
-    const toml::node* node = find(key);
-    if (!node)
-        return;
-    const auto* v = node->as_string();
-    if (!v)
-        fail(node, key, std::string("expected a string, found ") + typeName(*node));
-    out = v->get();
+    const toml::node* node = nullptr;
+    if (const auto* v = typed<std::string>(key, "a string", node))
+        out = v->get();
 }
 
 void TableReader::oneOf(std::string_view key, std::string& out, std::initializer_list<std::string_view> allowed)

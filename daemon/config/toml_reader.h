@@ -50,6 +50,10 @@ public:
 
 private:
     const toml::node* find(std::string_view key);
+    // The value of `key` as TOML type T (and its node), or nullptr when the key is absent; a
+    // value of another type fails with "expected <expected>, found <its type>".
+    template <typename T>
+    const toml::value<T>* typed(std::string_view key, const char* expected, const toml::node*& node);
     // Reads an array of exactly `count` (<= 4) finite numbers within [-limit, limit].
     void numbers(std::string_view key, double* out, int count, double limit);
 
