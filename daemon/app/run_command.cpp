@@ -20,6 +20,7 @@
 #include "output/frame_writer.h"
 #include "pipeline.h"
 #include "service_notifier.h"
+#include "status_file.h"
 
 namespace lumar {
 namespace {
@@ -112,17 +113,19 @@ private:
 struct RunningScene {
     std::unique_ptr<Pipeline> pipeline;
     std::unique_ptr<HeadlessSink> sink;
+    StatusFile statusFile;
 
     explicit RunningScene(const Config& config)
         : pipeline(std::make_unique<Pipeline>(config)),
-          sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps()))
+          sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps())), statusFile(config.output.statusPath)
     {
     }
 };
 
 // Parse → validate → build, all before anything running is touched: a bad file (or a model
 // it names) leaves the current scene running. Returns false when the new file was rejected.
-bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& scene, ServiceNotifier& notifier)
+bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& scene, ServiceNotifier& notifier,
+            RunStatus& status)
 {
     notifier.reloading();
     try {
@@ -132,11 +135,13 @@ bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& sc
         scene = std::move(next);
         log::configure(config.logLevel);
         LUMAR_LOG(Config, Info) << "reloaded " << file.string();
+        status.config = "ok";
         notifier.ready();
         return true;
     } catch (const InputError& e) {
         LUMAR_LOG(Config, Error) << "configuration rejected, keeping the last good one: " << e.what();
         notifier.status(std::string("configuration rejected: ") + e.what());
+        status.config = std::string("rejected: ") + e.what();
         notifier.ready();
         return false;
     }
@@ -172,14 +177,17 @@ int runCommand(const Args& args)
     };
     auto paceStart = Clock::now();
     long paceFrames = 0;
-    auto statusStart = paceStart;
-    long frames = 0, framesSinceStatus = 0, withMarker = 0;
+    // Every second the status file is rewritten; every fifth, systemd's STATUS= and the log.
+    const auto started = paceStart;
+    auto windowStart = paceStart;
+    long frames = 0, framesInWindow = 0, withMarker = 0, windows = 0;
+    RunStatus status;
     FrameReport report;
     LUMAR_LOG(App, Info) << "running at " << scene->pipeline->fps() << " fps; SIGINT or SIGTERM stops, SIGHUP reloads";
 
     while (!gStopRequested.load() && (maxFrames == 0 || frames < maxFrames)) {
         if (configFile && (gReloadRequested.exchange(false) || watcher->changed())) {
-            if (reload(*configFile, scene, notifier)) {
+            if (reload(*configFile, scene, notifier, status)) {
                 paceStart = Clock::now();
                 paceFrames = 0;
             }
@@ -195,24 +203,36 @@ int runCommand(const Args& args)
             // Unplugged or hung: the capture thread is reopening it with backoff; the last
             // frame stays on the output meanwhile.
             notifier.status(std::string("camera unavailable: ") + e.what());
+            status.camera = std::string("unavailable: ") + e.what();
             continue;
         }
         ++frames;
         ++paceFrames;
-        ++framesSinceStatus;
+        ++framesInWindow;
         withMarker += report.detections.empty() ? 0 : 1;
+        status.camera = "ok";
         const auto now = Clock::now();
         scene->sink->present(scene->pipeline->output(), now);
         notifier.frameDone(now);
-        if (now - statusStart >= std::chrono::seconds(5)) {
-            const double fps = framesSinceStatus / std::chrono::duration<double>(now - statusStart).count();
-            char line[160];
-            std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", fps, withMarker,
-                          frames, report.objectsDrawn);
-            LUMAR_LOG(App, Info) << "status: " << line;
-            notifier.status(line);
-            framesSinceStatus = 0;
-            statusStart = now;
+        if (now - windowStart >= std::chrono::seconds(1)) {
+            status.fps = double(framesInWindow) / std::chrono::duration<double>(now - windowStart).count();
+            status.frames = frames;
+            status.framesWithMarkers = withMarker;
+            status.objectsDrawn = report.objectsDrawn;
+            status.markersVisible.clear();
+            for (const TagDetection& d : report.detections)
+                status.markersVisible.push_back(d.id);
+            status.uptimeS = std::chrono::duration<double>(now - started).count();
+            scene->statusFile.write(status);
+            if (++windows % 5 == 0) {
+                char line[160];
+                std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", status.fps,
+                              withMarker, frames, report.objectsDrawn);
+                LUMAR_LOG(App, Info) << "status: " << line;
+                notifier.status(line);
+            }
+            framesInWindow = 0;
+            windowStart = now;
         }
         std::this_thread::sleep_until(paceStart + paceFrames * frameInterval());
     }

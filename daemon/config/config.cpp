@@ -186,6 +186,7 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     const auto extension = output.path.extension();
     if (!output.path.empty() && extension != ".png" && extension != ".y4m")
         r.fail(table->get("path"), "path", output.path.string() + ": expected a .png or .y4m file");
+    r.path("status_path", output.statusPath, ctx.baseDir, Expect::Parent);
     r.finish();
 }
 

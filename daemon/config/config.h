@@ -74,8 +74,9 @@ struct EnvironmentConfig {
 };
 
 struct OutputConfig {
-    std::string sink = "headless"; // "headless" (files) | "none"
-    std::filesystem::path path;    // .png or .y4m for `lumar run`; empty: no file
+    std::string sink = "headless";    // "headless" (files) | "none"
+    std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file
+    std::filesystem::path statusPath; // `lumar run` state as JSON, e.g. /run/lumar/status.json
 };
 
 struct Config {

@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <spawn.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -101,7 +102,7 @@ void replaceFile(const std::filesystem::path& file, const std::string& text)
 std::string sceneWritingTo(const std::string& video)
 {
     return "[camera]\nwidth = " + std::to_string(kWidth) + "\nheight = " + std::to_string(kHeight) +
-           "\n[output]\npath = \"" + video + "\"\n";
+           "\n[output]\npath = \"" + video + "\"\nstatus_path = \"status.json\"\n";
 }
 
 bool waitForFrames(const std::filesystem::path& video, size_t frames, std::chrono::seconds limit)
@@ -137,6 +138,9 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     const std::string log = test::readText(dir / "log.txt");
     EXPECT_NE(log.find("configuration rejected"), std::string::npos) << log;
     EXPECT_NE(log.find("scene.toml:2: camera.width"), std::string::npos) << log;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    const auto rejected = nlohmann::json::parse(test::readText(dir / "status.json"));
+    EXPECT_EQ(rejected["config"].get<std::string>().rfind("rejected: ", 0), 0u) << rejected.dump();
     const size_t before = fileSize(dir / "b.y4m");
     EXPECT_TRUE(waitForFrames(dir / "b.y4m", before / kY4mFrameBytes + 3, std::chrono::seconds(30)))
         << "frames keep flowing after a rejected file";
@@ -146,6 +150,15 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     replaceFile(config, sceneWritingTo("c.y4m"));
     ::kill(pid, SIGHUP);
     EXPECT_TRUE(waitForFrames(dir / "c.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+
+    // The status file reports the rejected file until a good one is accepted (it is
+    // rewritten every second).
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    const auto json = nlohmann::json::parse(test::readText(dir / "status.json"));
+    EXPECT_EQ(json["config"], "ok") << json.dump();
+    EXPECT_EQ(json["camera"], "ok") << json.dump();
+    EXPECT_GT(json["frames"].get<long>(), 0);
+    EXPECT_GT(json["fps"].get<double>(), 0.0);
 
     ASSERT_EQ(::kill(pid, SIGTERM), 0);
     int status = 0;

@@ -1,0 +1,43 @@
+#include "status_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "core/error.h"
+#include "tracking/detection_json.h"
+
+namespace lumar {
+
+std::string statusJson(const RunStatus& s)
+{
+    std::string ids;
+    for (int id : s.markersVisible)
+        ids += (ids.empty() ? "" : ",") + std::to_string(id);
+    char numbers[256];
+    std::snprintf(numbers, sizeof numbers,
+                  "\"fps\":%.2f,\"frames\":%ld,\"frames_with_markers\":%ld,\"objects_drawn\":%d,\"uptime_s\":%.1f",
+                  s.fps, s.frames, s.framesWithMarkers, s.objectsDrawn, s.uptimeS);
+    return std::string("{\"state\":\"running\",") + numbers + ",\"markers_visible\":[" + ids +
+           "],\"camera\":" + jsonString(s.camera) + ",\"config\":" + jsonString(s.config) + "}\n";
+}
+
+void StatusFile::write(const RunStatus& status) const
+{
+    if (path_.empty())
+        return;
+    const std::filesystem::path partial = path_.string() + ".partial";
+    {
+        std::ofstream out(partial, std::ios::trunc);
+        out << statusJson(status);
+        if (!out.flush())
+            throw RuntimeError(partial.string() + ": cannot write: " + std::strerror(errno));
+    }
+    std::error_code ec;
+    std::filesystem::rename(partial, path_, ec);
+    if (ec)
+        throw RuntimeError(path_.string() + ": cannot replace: " + ec.message());
+}
+
+} // namespace lumar
