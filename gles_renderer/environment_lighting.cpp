@@ -63,8 +63,9 @@ void EnvironmentLighting::set(const ImageF& equirect, float intensity)
 {
     if (!std::isfinite(intensity) || intensity < 0.0f)
         throw InputError("environment intensity must be a finite number >= 0, got " + std::to_string(intensity));
-    // Validates the image's shape (InputError) before anything changes.
-    const SH9 sh = projectEquirectSH9(equirect);
+    if (equirect.channels != 3 || equirect.width < 2 || equirect.height < 1 ||
+        equirect.data.size() != size_t(equirect.width) * size_t(equirect.height) * 3)
+        throw InputError("the environment map must be a non-empty 3-channel image");
 
     // The mip chain is built on the CPU: glGenerateMipmap needs a colour-renderable format,
     // which half floats are not in core GLES 3.0.
@@ -91,26 +92,14 @@ void EnvironmentLighting::set(const ImageF& equirect, float intensity)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     checkGlError("uploading the environment map");
 
-    // Ramamoorthi & Hanrahan's clamped-cosine factors per band (pi, 2pi/3, pi/4) divided by
-    // pi, so the shader's sum is the reflected radiance of a white Lambertian surface.
-    constexpr float bandFactorOverPi[9] = {1.0f, 2.0f / 3, 2.0f / 3, 2.0f / 3, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f};
-    for (size_t k = 0; k < 9; ++k)
-        irradianceSH_[k] = glm::vec4(sh[k] * bandFactorOverPi[k] * intensity, 0.0f);
-    specularMap_ = std::move(texture);
-    maxLod_ = float(levels.size() - first - 1);
+    equirect_ = std::move(texture);
+    equirectWidth_ = levels[first].width;
+    ++generation_;
 }
 
 void EnvironmentLighting::setRotation(const glm::dmat3& environmentFromCamera)
 {
-    environmentFromCamera_ = glm::mat3(environmentFromCamera);
-}
-
-void EnvironmentLighting::fillUniforms(FrameUniforms& frame) const
-{
-    for (int c = 0; c < 3; ++c)
-        frame.environmentFromCamera[c] = glm::vec4(environmentFromCamera_[c], 0.0f);
-    std::copy(std::begin(irradianceSH_), std::end(irradianceSH_), std::begin(frame.irradianceSH));
-    frame.environmentParams = glm::vec4(maxLod_, 0.0f, 0.0f, 0.0f);
+    environmentFromCamera_ = environmentFromCamera;
 }
 
 } // namespace lumar

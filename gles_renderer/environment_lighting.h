@@ -1,13 +1,12 @@
-// The real environment as the mesh shader uses it: SH9 irradiance for diffuse light and a
-// mipmapped equirectangular radiance map for specular reflections, with the rotation from
-// the camera frame into the environment's frame.
+// The real environment: a mipmapped equirectangular radiance texture (the skybox of every
+// environment map, intensity applied) and the rotation from the camera frame into the
+// environment's frame.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include "core/image.h"
 #include "gles_renderer/gl_object.h"
-#include "gles_renderer/uniform_blocks.h"
 
 namespace lumar {
 
@@ -25,15 +24,17 @@ public:
     // Rotation from the OpenCV camera frame to the environment's frame (+Y up).
     void setRotation(const glm::dmat3& environmentFromCamera);
 
-    // Writes the environment's part of the per-frame block (rotation, SH, specular LOD range).
-    void fillUniforms(FrameUniforms& frame) const;
-    [[nodiscard]] GLuint specularMap() const { return specularMap_.name(); }
+    [[nodiscard]] const glm::dmat3& environmentFromCamera() const { return environmentFromCamera_; }
+    [[nodiscard]] GLuint equirect() const { return equirect_.name(); }
+    [[nodiscard]] int equirectWidth() const { return equirectWidth_; }
+    // Counts set() calls: maps built from an older environment are stale.
+    [[nodiscard]] int generation() const { return generation_; }
 
 private:
-    GlTexture specularMap_;
-    glm::vec4 irradianceSH_[9] = {};
-    float maxLod_ = 0.0f;
-    glm::mat3 environmentFromCamera_{1.0f};
+    GlTexture equirect_;
+    int equirectWidth_ = 0;
+    int generation_ = 0;
+    glm::dmat3 environmentFromCamera_{1.0};
 };
 
 } // namespace lumar

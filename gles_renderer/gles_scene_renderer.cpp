@@ -1,4 +1,5 @@
 // SceneRenderer on a surfaceless EGL context: background pass, mesh pass, readback.
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "gles_renderer/camera_projection.h"
 #include "gles_renderer/egl_context.h"
 #include "gles_renderer/environment_lighting.h"
+#include "gles_renderer/environment_probes.h"
 #include "gles_renderer/frame_readback.h"
 #include "gles_renderer/gl_check.h"
 #include "gles_renderer/gpu_model.h"
@@ -51,7 +53,8 @@ public:
         : context_(makeContext()), width_(width), height_(height),
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
-          readback_(target_.readFramebuffer(), width, height)
+          readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
+          profile_(options.profile)
     {
         checkGlError("creating the scene renderer");
         LUMAR_LOG(Render, Info) << "rendering " << width << "x" << height << ", " << target_.samples()
@@ -83,6 +86,7 @@ public:
     void removeModels() override
     {
         context_.makeCurrent();
+        probes_.clear();
         models_.clear();
     }
 
@@ -107,15 +111,28 @@ public:
                                  std::to_string(models_.size()));
         context_.makeCurrent();
 
+        stats_ = RenderStats{};
+        const std::span<const IblMaps* const> maps =
+            probes_.update(models_, items, environment_, meshes_, profile_, stats_);
+
+        const auto start = std::chrono::steady_clock::now();
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
         background_.draw(backgroundRgb);
 
         frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
-        environment_.fillUniforms(frame_);
-        meshes_.draw(frame_, environment_.specularMap(), models_, items);
+        const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
+        for (int c = 0; c < 3; ++c)
+            frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
+        frame_.frameParams = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        meshes_.draw(frame_, models_, items, maps);
         target_.finishFrame();
+        if (profile_) {
+            glFinish();
+            stats_.shadingMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        }
         // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
         // before readback() overlaps with it.
         glFlush();
@@ -126,6 +143,10 @@ public:
         context_.makeCurrent();
         readback_.read(rgb);
     }
+
+    [[nodiscard]] RenderStats lastStats() const override { return stats_; }
+    [[nodiscard]] const IblMaps* objectMaps(int object) const override { return probes_.objectMaps(object); }
+    [[nodiscard]] const IblMaps& environmentMaps() const override { return probes_.environmentMaps(); }
 
     [[nodiscard]] int width() const override { return width_; }
     [[nodiscard]] int height() const override { return height_; }
@@ -142,6 +163,9 @@ private:
     EnvironmentLighting environment_;
     FrameReadback readback_;
     std::vector<GpuModel> models_;
+    EnvironmentProbes probes_;
+    bool profile_;
+    RenderStats stats_;
     FrameUniforms frame_;
 };
 

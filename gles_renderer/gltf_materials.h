@@ -20,7 +20,9 @@ struct ConvertedMaterials {
 // KHR_materials_emissive_strength) and texture, doubleSided. An image used both as colour
 // and as data becomes two textures (sRGB and linear). A texture whose image could not be
 // loaded (say, a missing external file) is dropped with a warning; `fileForLog` names the
-// model in those warnings.
+// model in those warnings. LUMAR_materials_lafortune (LUMAR_materials_lafortune.md) sets
+// hasLafortune, the Lafortune parameters and their textures; a malformed field throws
+// InputError naming the material (index and name) and the field.
 ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::string& fileForLog);
 
 } // namespace lumar::gltf

@@ -23,7 +23,7 @@ namespace {
 
 // Extensions a file may require that this loader honours. Any other required extension
 // (Draco, meshopt, basisu, texture transforms...) would make us draw the model wrongly.
-const char* const kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength"};
+const char* const kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength", "LUMAR_materials_lafortune"};
 
 template <typename Vec> std::vector<Vec> toVectors(const std::vector<float>& flat)
 {

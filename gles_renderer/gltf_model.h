@@ -18,8 +18,29 @@ struct GltfTexture {
     bool srgb = false; // base colour and emissive are sRGB-encoded, the rest linear
 };
 
+// The paper's shading parameters (DESIGN.md §6.4): McAllister's one-lobe Lafortune SBRDF in
+// the local frame (T, B, N) plus a tangent rotation and the paper's Fresnel factor. Every
+// textured parameter is `factor x texel` as glTF does, so an absent texture (white) leaves
+// the factor alone.
+struct LafortuneParams {
+    glm::vec3 diffuse{0.8f};            // rho_d, linear (x the ρd/base-colour texture, sRGB)
+    glm::vec3 specular{0.04f};          // rho_s, linear (x the specular texture, sRGB)
+    glm::vec3 lobe{-1.0f, -1.0f, 1.0f}; // C_x, C_y, C_z (x the lobe texture's rgb, linear)
+    float exponent = 64.0f;             // n (x the lobe texture's alpha)
+    float fresnelPhi = 0.0f;            // phi in [0, 1): 0 switches the Fresnel factor off
+    float tangentRotation = 0.0f;       // angle / pi in [0, 1] (x the rotation texture's red)
+};
+
 struct GltfMaterial {
     std::string name;
+    // True when LUMAR_materials_lafortune or a sidecar gave the full parameter set; false for
+    // a plain metallic-roughness material, which the shader converts per texel
+    // (lafortune_material.h).
+    bool hasLafortune = false;
+    LafortuneParams lafortune;
+    int specularTexture = -1;        // sRGB rgb: rho_s
+    int lobeTexture = -1;            // linear rgba: C_x, C_y, C_z, n multipliers
+    int tangentRotationTexture = -1; // linear r: rotation angle / pi
     glm::vec4 baseColorFactor{1.0f};
     float metallicFactor = 1.0f;
     float roughnessFactor = 1.0f;

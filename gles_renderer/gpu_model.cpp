@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "gles_renderer/gl_check.h"
 #include "gles_renderer/gpu_texture.h"
+#include "gles_renderer/lafortune_material.h"
 #include "gles_renderer/uniform_blocks.h"
 
 namespace lumar {
@@ -78,7 +79,15 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     MaterialUniforms block;
     block.baseColorFactor = m.baseColorFactor;
     block.emissiveNormalScale = glm::vec4(m.emissiveFactor, m.normalTexture >= 0 ? m.normalScale : 0.0f);
-    block.metallicRoughness = glm::vec4(m.metallicFactor, m.roughnessFactor, 0.0f, 0.0f);
+    if (m.hasLafortune) {
+        const LafortuneParams& l = m.lafortune;
+        block.baseColorFactor = glm::vec4(l.diffuse, m.baseColorFactor.a);
+        block.metallicRoughness = glm::vec4(m.metallicFactor, m.roughnessFactor, 1.0f, l.fresnelPhi);
+        block.specularFactor = glm::vec4(l.specular, l.tangentRotation);
+        block.lobeFactor = glm::vec4(l.lobe, l.exponent);
+    } else {
+        block.metallicRoughness = glm::vec4(m.metallicFactor, m.roughnessFactor, 0.0f, kMetallicRoughnessFresnelPhi);
+    }
 
     GpuMaterial material;
     material.uniforms = GlBuffer::create();
@@ -88,6 +97,9 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     material.metallicRoughness = textureOr(m.metallicRoughnessTexture, defaults.white);
     material.normal = textureOr(m.normalTexture, defaults.flatNormal);
     material.emissive = textureOr(m.emissiveTexture, defaults.white);
+    material.specular = textureOr(m.specularTexture, defaults.white);
+    material.lobe = textureOr(m.lobeTexture, defaults.white);
+    material.tangentRotation = textureOr(m.tangentRotationTexture, defaults.white);
     material.doubleSided = m.doubleSided;
     return material;
 }
@@ -148,7 +160,10 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
         const std::pair<const char*, int> slots[] = {{"base colour", material.baseColorTexture},
                                                      {"metallic-roughness", material.metallicRoughnessTexture},
                                                      {"normal", material.normalTexture},
-                                                     {"emissive", material.emissiveTexture}};
+                                                     {"emissive", material.emissiveTexture},
+                                                     {"specular", material.specularTexture},
+                                                     {"lobe", material.lobeTexture},
+                                                     {"tangent rotation", material.tangentRotationTexture}};
         for (const auto& [slot, texture] : slots) {
             checkTextureIndex(model, m, slot, texture);
             if (texture >= 0)
@@ -162,6 +177,8 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
         checkPrimitive(model, p);
 
     GpuModel gpu;
+    gpu.boundsMin = model.boundsMin;
+    gpu.boundsMax = model.boundsMax;
     gpu.textures.resize(model.textures.size());
     for (size_t t = 0; t < model.textures.size(); ++t)
         if (textureUsed[t])

@@ -14,7 +14,7 @@ namespace lumar {
 
 // Stand-ins for absent material textures, shared by every model.
 struct DefaultTextures {
-    GlTexture white;      // base colour, metallic-roughness, emissive: the factor alone
+    GlTexture white;      // every colour and parameter map: the factor alone
     GlTexture flatNormal; // tangent-space +z
 };
 
@@ -25,6 +25,9 @@ struct GpuMaterial {
     GLuint metallicRoughness = 0;
     GLuint normal = 0;
     GLuint emissive = 0;
+    GLuint specular = 0;
+    GLuint lobe = 0;
+    GLuint tangentRotation = 0;
     bool doubleSided = false;
 };
 
@@ -39,8 +42,9 @@ struct GpuPrimitive {
 };
 
 struct GpuModel {
-    std::vector<GlTexture> textures;    // parallel to GltfModel::textures; unused ones stay empty
-    std::vector<GpuMaterial> materials; // the model's materials, then glTF's default material
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space: the environment map's centre
+    std::vector<GlTexture> textures;            // parallel to GltfModel::textures; unused ones stay empty
+    std::vector<GpuMaterial> materials;         // the model's materials, then glTF's default material
     std::vector<GpuPrimitive> primitives;
 };
 

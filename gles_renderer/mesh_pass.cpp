@@ -30,13 +30,23 @@ public:
             glFrontFace(mode);
         frontFace_ = mode;
     }
-    void bindTexture(GLuint unit, GLuint texture)
+    void bindTexture(GLuint unit, GLuint texture, GLenum target = GL_TEXTURE_2D)
     {
         if (textures_[unit] == texture)
             return;
         textures_[unit] = texture;
         glActiveTexture(GL_TEXTURE0 + unit);
-        glBindTexture(GL_TEXTURE_2D, texture);
+        glBindTexture(target, texture);
+    }
+    void bindMaps(const IblMaps* maps)
+    {
+        if (maps_ == maps)
+            return;
+        maps_ = maps;
+        bindTexture(MeshPass::kDiffuseMapUnit, maps->diffuse.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kGlossy1MapUnit, maps->glossy1.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name(), GL_TEXTURE_CUBE_MAP);
     }
     void bindMaterial(const GpuMaterial* material)
     {
@@ -48,14 +58,18 @@ public:
         bindTexture(MeshPass::kMetallicRoughnessUnit, material->metallicRoughness);
         bindTexture(MeshPass::kNormalUnit, material->normal);
         bindTexture(MeshPass::kEmissiveUnit, material->emissive);
+        bindTexture(MeshPass::kSpecularUnit, material->specular);
+        bindTexture(MeshPass::kLobeUnit, material->lobe);
+        bindTexture(MeshPass::kTangentRotationUnit, material->tangentRotation);
         setCulling(!material->doubleSided);
     }
 
 private:
     int culling_ = -1; // unknown at the start of a pass
     GLenum frontFace_ = 0;
-    std::array<GLuint, 8> textures_{};
+    std::array<GLuint, 16> textures_{};
     const GpuMaterial* material_ = nullptr;
+    const IblMaps* maps_ = nullptr;
 };
 
 } // namespace
@@ -69,7 +83,13 @@ MeshPass::MeshPass()
     glUniform1i(uniformLocation(program_, "uMetallicRoughness"), GLint(kMetallicRoughnessUnit));
     glUniform1i(uniformLocation(program_, "uNormal"), GLint(kNormalUnit));
     glUniform1i(uniformLocation(program_, "uEmissive"), GLint(kEmissiveUnit));
-    glUniform1i(uniformLocation(program_, "uEnvironment"), GLint(kEnvironmentUnit));
+    glUniform1i(uniformLocation(program_, "uSpecular"), GLint(kSpecularUnit));
+    glUniform1i(uniformLocation(program_, "uLobe"), GLint(kLobeUnit));
+    glUniform1i(uniformLocation(program_, "uTangentRotation"), GLint(kTangentRotationUnit));
+    glUniform1i(uniformLocation(program_, "uDiffuseMap"), GLint(kDiffuseMapUnit));
+    glUniform1i(uniformLocation(program_, "uGlossy1Map"), GLint(kGlossy1MapUnit));
+    glUniform1i(uniformLocation(program_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
+    glUniform1i(uniformLocation(program_, "uMirrorMap"), GLint(kMirrorMapUnit));
     bindUniformBlock(program_, "Frame", kFrameBlockBinding);
     bindUniformBlock(program_, "Material", kMaterialBlockBinding);
 
@@ -78,8 +98,8 @@ MeshPass::MeshPass()
     checkGlError("creating the mesh pass");
 }
 
-void MeshPass::draw(const FrameUniforms& frame, GLuint environmentMap, const std::vector<GpuModel>& models,
-                    std::span<const DrawItem> items) const
+void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                    std::span<const IblMaps* const> maps, int skip) const
 {
     if (items.empty())
         return;
@@ -92,9 +112,12 @@ void MeshPass::draw(const FrameUniforms& frame, GLuint environmentMap, const std
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     StateCache state;
-    state.bindTexture(kEnvironmentUnit, environmentMap);
 
-    for (const DrawItem& item : items) {
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (int(i) == skip)
+            continue;
+        const DrawItem& item = items[i];
+        state.bindMaps(maps[i]);
         const GpuModel& model = models[size_t(item.model)];
         for (const GpuPrimitive& primitive : model.primitives) {
             // Composed in double precision: model matrices may carry large translations.

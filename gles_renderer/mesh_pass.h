@@ -1,4 +1,5 @@
-// Pass 2 of a frame: the models, depth-tested and shaded by mesh.vert / mesh.frag.
+// The models, depth-tested and shaded by mesh.vert / mesh.frag with each item's own four
+// environment maps: pass 2 of a frame, and the other objects inside a cube-map face.
 #pragma once
 
 #include <span>
@@ -6,6 +7,7 @@
 
 #include "gles_renderer/gl_object.h"
 #include "gles_renderer/gpu_model.h"
+#include "gles_renderer/ibl_maps.h"
 #include "gles_renderer/scene_renderer.h"
 #include "gles_renderer/uniform_blocks.h"
 
@@ -18,14 +20,21 @@ public:
     static constexpr GLuint kMetallicRoughnessUnit = 1;
     static constexpr GLuint kNormalUnit = 2;
     static constexpr GLuint kEmissiveUnit = 3;
-    static constexpr GLuint kEnvironmentUnit = 4;
+    static constexpr GLuint kSpecularUnit = 4;
+    static constexpr GLuint kLobeUnit = 5;
+    static constexpr GLuint kTangentRotationUnit = 6;
+    static constexpr GLuint kDiffuseMapUnit = 7;
+    static constexpr GLuint kGlossy1MapUnit = 8;
+    static constexpr GLuint kGlossy2MapUnit = 9;
+    static constexpr GLuint kMirrorMapUnit = 10;
 
     MeshPass();
 
-    // Draws `items` into the bound framebuffer (which must have been cleared of depth).
-    // Every item's model id must index `models` (the caller checks).
-    void draw(const FrameUniforms& frame, GLuint environmentMap, const std::vector<GpuModel>& models,
-              std::span<const DrawItem> items) const;
+    // Draws `items` into the bound framebuffer (which must have been cleared of depth),
+    // item i lit by maps[i]. Every item's model id must index `models` (the caller checks).
+    // `skip`: an item index not to draw (an environment map's owner), or -1.
+    void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+              std::span<const IblMaps* const> maps, int skip = -1) const;
 
 private:
     GlProgram program_;

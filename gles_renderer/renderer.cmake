@@ -3,14 +3,17 @@
 add_library(lumar_render STATIC
   "${CMAKE_CURRENT_LIST_DIR}/background_pass.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/camera_projection.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/cube_face_camera.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/egl_context.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/environment_lighting.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/environment_probes.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/frame_readback.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gl_check.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gl_probe.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gles_scene_renderer.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gpu_model.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gpu_texture.cpp"
+  "${CMAKE_CURRENT_LIST_DIR}/ibl_pipeline.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/mesh_pass.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/render_target.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/shader_program.cpp")

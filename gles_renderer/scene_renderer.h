@@ -11,6 +11,7 @@
 #include "core/image.h"
 #include "gles_renderer/environment_map.h"
 #include "gles_renderer/gltf_model.h"
+#include "gles_renderer/ibl_maps.h"
 
 namespace lumar {
 
@@ -20,12 +21,42 @@ struct DrawItem {
     ModelId model = -1;
     // Model space to the OpenCV camera frame (x right, y down, z forward), metres.
     glm::dmat4 cameraFromModel{1.0};
+    // A stable id of the scene object this item draws (>= 0): it owns a dynamic environment
+    // map kept from frame to frame. -1: lit by the real environment alone.
+    int object = -1;
+};
+
+// When the per-object environment maps are re-rendered (DESIGN.md §6.1).
+enum class EnvironmentMapPolicy {
+    EveryFrame,   // every object's map, every frame (the paper's method)
+    EveryKFrames, // each object every k-th frame, objects staggered across frames
+    Budget,       // round-robin, as many as fit a per-frame time budget (at least one)
+};
+
+struct EnvironmentMapOptions {
+    bool dynamic = true; // false: every object is lit by the real environment alone
+    EnvironmentMapPolicy policy = EnvironmentMapPolicy::EveryFrame;
+    int everyK = 2;
+    double budgetMs = 8.0;
+    IblSettings ibl;
+};
+
+// Milliseconds of the last frame's stages, measured only with RenderOptions::profile (it
+// waits for the GPU between stages, which a real GPU would otherwise overlap).
+struct RenderStats {
+    int mapsUpdated = 0;
+    double environmentMapsMs = 0; // cube faces: skybox and the other objects
+    double shMs = 0;              // SH projection and the diffuse map
+    double prefilterMs = 0;       // the glossy maps
+    double shadingMs = 0;         // background and the objects in the frame
 };
 
 struct RenderOptions {
     // Multisample anti-aliasing samples per pixel (1 = off). Off by default: on llvmpipe
     // with 2 cores, 4x took the demo truck at 1280x720 from 10.5 to 28 ms per frame.
     int samples = 1;
+    EnvironmentMapOptions environmentMaps;
+    bool profile = false;
 };
 
 class SceneRenderer {
@@ -49,6 +80,11 @@ public:
                         std::span<const DrawItem> items) = 0;
     // The last rendered frame, 3 channels, row 0 at the top.
     virtual void readback(Image8& rgb) = 0;
+    [[nodiscard]] virtual RenderStats lastStats() const = 0;
+    // Test access: the maps of scene object `object` (nullptr when it has none yet), and of
+    // the real environment alone. Their textures stay owned by the renderer.
+    [[nodiscard]] virtual const IblMaps* objectMaps(int object) const = 0;
+    [[nodiscard]] virtual const IblMaps& environmentMaps() const = 0;
 
     [[nodiscard]] virtual int width() const = 0;
     [[nodiscard]] virtual int height() const = 0;

@@ -13,35 +13,41 @@ namespace lumar {
 inline constexpr unsigned kFrameBlockBinding = 0;
 inline constexpr unsigned kMaterialBlockBinding = 1;
 
-// Per frame: "uniform Frame" in mesh.vert / mesh.frag.
+// Per view: "uniform Frame" in mesh.vert / mesh.frag. A view is the frame's camera or one
+// cube-face camera of an object's environment map.
 struct FrameUniforms {
     glm::mat4 clipFromCamera{1.0f};
     // mat3 in std140: three columns, each padded to a vec4.
     glm::vec4 environmentFromCamera[3] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
-    // SH9 of the environment's radiance, each already multiplied by the clamped-cosine band
-    // factor / pi and the intensity, so the shader's sum is diffuse irradiance / pi (rgb).
-    glm::vec4 irradianceSH[9] = {};
-    // x: the specular map's largest mip level (roughness 1 samples it); yzw unused.
-    glm::vec4 environmentParams{0.0f};
+    // x: +1, or -1 when the camera frame is mirrored (cube faces); y: 1 = write linear
+    // radiance (environment maps), 0 = tone-mapped sRGB (the frame); zw unused.
+    glm::vec4 frameParams{1.0f, 0.0f, 0.0f, 0.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);
 static_assert(offsetof(FrameUniforms, environmentFromCamera) == 64);
-static_assert(offsetof(FrameUniforms, irradianceSH) == 112);
-static_assert(offsetof(FrameUniforms, environmentParams) == 256);
-static_assert(sizeof(FrameUniforms) == 272);
+static_assert(offsetof(FrameUniforms, frameParams) == 112);
+static_assert(sizeof(FrameUniforms) == 128);
 
 // Per material: "uniform Material" in mesh.frag.
 struct MaterialUniforms {
+    // Metallic-roughness: the base colour; Lafortune: rho_d (rgb).
     glm::vec4 baseColorFactor{1.0f};
     // xyz: emissive factor; w: normal-map scale (0 when there is no normal map, which
     // leaves the flat default texture's normal exactly unchanged).
     glm::vec4 emissiveNormalScale{0.0f};
-    // x: metallic factor, y: roughness factor.
+    // x: metallic factor, y: roughness factor, z: 1 = Lafortune parameters below (0 = the
+    // shader converts metallic-roughness per texel), w: the Fresnel parameter phi.
     glm::vec4 metallicRoughness{1.0f, 1.0f, 0.0f, 0.0f};
+    // rgb: rho_s; w: tangent rotation / pi (x the rotation texture's red).
+    glm::vec4 specularFactor{0.04f, 0.04f, 0.04f, 0.0f};
+    // xyz: C_x, C_y, C_z; w: the exponent n.
+    glm::vec4 lobeFactor{-1.0f, -1.0f, 1.0f, 64.0f};
 };
 static_assert(offsetof(MaterialUniforms, baseColorFactor) == 0);
 static_assert(offsetof(MaterialUniforms, emissiveNormalScale) == 16);
 static_assert(offsetof(MaterialUniforms, metallicRoughness) == 32);
-static_assert(sizeof(MaterialUniforms) == 48);
+static_assert(offsetof(MaterialUniforms, specularFactor) == 48);
+static_assert(offsetof(MaterialUniforms, lobeFactor) == 64);
+static_assert(sizeof(MaterialUniforms) == 80);
 
 } // namespace lumar

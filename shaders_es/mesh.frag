@@ -1,29 +1,40 @@
 #version 300 es
-// glTF metallic-roughness shading under image-based light from the real environment, in
-// linear space: diffuse from the environment's SH9 irradiance, specular from the mipmapped
-// equirectangular map along the reflection vector times an analytic environment BRDF,
-// plus emission; then ACES tone mapping and sRGB encoding for the RGBA8 target.
+// The paper's shading (Pessoa et al. 2009; DESIGN.md §6.4): McAllister's Lafortune SBRDF
+// with a per-texel tangent rotation and the paper's Fresnel factor, lit by the object's own
+// four environment maps (diffuse, two glossy, mirror) blended by glossiness, plus emission.
+// The main view tone-maps (ACES) and sRGB-encodes for the RGBA8 target; a cube-face view of
+// an environment map writes linear HDR radiance.
 precision highp float;
 precision highp sampler2D;
+precision highp samplerCube;
 
 layout(std140) uniform Frame {
     mat4 clipFromCamera;
     mat3 environmentFromCamera;
-    vec4 irradianceSH[9];
-    vec4 environmentParams;
+    // x: +1, or -1 for a mirrored (cube-face) camera frame, where cross products flip;
+    // y: 1 writes linear radiance (environment maps), 0 tone-mapped sRGB (the frame).
+    vec4 frameParams;
 };
 
 layout(std140) uniform Material {
-    vec4 baseColorFactor;
-    vec4 emissiveNormalScale;
-    vec4 metallicRoughness;
+    vec4 baseColorFactor;     // metallic-roughness: base colour; Lafortune: rho_d (rgb)
+    vec4 emissiveNormalScale; // xyz: emissive factor, w: normal-map scale
+    vec4 metallicRoughness;   // x: metallic, y: roughness, z: 1 = Lafortune parameters, w: phi
+    vec4 specularFactor;      // rgb: rho_s (Lafortune), w: tangent rotation / pi (x texel)
+    vec4 lobeFactor;          // xyz: C_x, C_y, C_z, w: exponent n (Lafortune)
 };
 
-uniform sampler2D uBaseColor;         // sRGB texture: sampled as linear
+uniform sampler2D uBaseColor;         // sRGB: base colour / rho_d
 uniform sampler2D uMetallicRoughness; // g: roughness, b: metallic
 uniform sampler2D uNormal;            // tangent space
-uniform sampler2D uEmissive;          // sRGB texture: sampled as linear
-uniform sampler2D uEnvironment;       // equirectangular linear radiance, mipmapped
+uniform sampler2D uEmissive;          // sRGB
+uniform sampler2D uSpecular;          // sRGB: rho_s (Lafortune)
+uniform sampler2D uLobe;              // linear: C_x, C_y, C_z, n multipliers (Lafortune)
+uniform sampler2D uTangentRotation;   // linear r: x the rotation factor
+uniform samplerCube uDiffuseMap;      // E / pi (the n = 1 Phong prefilter), environment frame
+uniform samplerCube uGlossy1Map;      // Phong prefilter, n = 8
+uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
+uniform samplerCube uMirrorMap;       // the environment map itself
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -32,40 +43,11 @@ in vec2 vUv;
 
 out vec4 fragColor;
 
-const float PI = 3.14159265358979;
+#include "lafortune.glsl"
 
-// Sum of c'_lm Y_lm(n) with the real SH basis of gles_renderer/environment_map.h (band 1
-// ordered y, z, x); the coefficients already hold the cosine-lobe factors / pi.
-vec3 diffuseIrradianceOverPi(vec3 n)
-{
-    vec3 e = irradianceSH[0].rgb * 0.282095;
-    e += irradianceSH[1].rgb * (0.488603 * n.y);
-    e += irradianceSH[2].rgb * (0.488603 * n.z);
-    e += irradianceSH[3].rgb * (0.488603 * n.x);
-    e += irradianceSH[4].rgb * (1.092548 * n.x * n.y);
-    e += irradianceSH[5].rgb * (1.092548 * n.y * n.z);
-    e += irradianceSH[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
-    e += irradianceSH[7].rgb * (1.092548 * n.x * n.z);
-    e += irradianceSH[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
-    return max(e, vec3(0.0));
-}
-
-// Direction (environment frame, +y up) to equirectangular uv, v = 0 the top row.
-vec2 equirectUv(vec3 d)
-{
-    return vec2(0.5 + atan(d.z, d.x) / (2.0 * PI), acos(clamp(d.y, -1.0, 1.0)) / PI);
-}
-
-// Karis' analytic fit of the split-sum environment BRDF ("Physically Based Shading on
-// Mobile", 2014): scale and bias applied to F0.
-vec2 environmentBrdf(float roughness, float nDotV)
-{
-    const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
-    const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
-    vec4 r = roughness * c0 + c1;
-    float a004 = min(r.x * r.x, exp2(-9.28 * nDotV)) * r.x + r.y;
-    return vec2(-1.04, 1.04) * a004 + r.zw;
-}
+// glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
+const float kMaxExponent = 4096.0;
+const float kDielectricSpecular = 0.04;
 
 // Narkowicz's fit of the ACES filmic curve (exposure 1).
 vec3 toneMapAces(vec3 x)
@@ -86,44 +68,75 @@ vec3 encodeSrgb(vec3 c)
     return mix(low, high, step(vec3(0.0031308), c));
 }
 
-vec3 shadingNormal()
+// Radiance of the environment around direction d (environment frame) for glossiness s.
+// Explicit LODs: the maps are small and implicit derivatives would blur across faces.
+vec3 environmentRadiance(vec3 d, float s)
 {
-    vec3 n = normalize(vNormal);
-    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
-    // Meshes without usable uvs have no tangent: keep the interpolated normal.
-    if (dot(t, t) > 1e-12) {
-        t = normalize(t);
-        vec3 b = cross(n, t) * (vTangent.w < 0.0 ? -1.0 : 1.0);
-        vec3 tangentNormal = texture(uNormal, vUv).xyz * 2.0 - 1.0;
-        tangentNormal.xy *= emissiveNormalScale.w;
-        n = normalize(mat3(t, b, n) * tangentNormal);
-    }
-    // Back faces of double-sided materials are lit as seen from their side.
-    return gl_FrontFacing ? n : -n;
+    vec2 blend = glossyBlend(s);
+    if (blend.x < 0.5)
+        return mix(textureLod(uDiffuseMap, d, 0.0).rgb, textureLod(uGlossy1Map, d, 0.0).rgb, blend.y);
+    if (blend.x < 1.5)
+        return mix(textureLod(uGlossy1Map, d, 0.0).rgb, textureLod(uGlossy2Map, d, 0.0).rgb, blend.y);
+    return mix(textureLod(uGlossy2Map, d, 0.0).rgb, textureLod(uMirrorMap, d, 0.0).rgb, blend.y);
 }
 
 void main()
 {
-    vec3 baseColor = baseColorFactor.rgb * texture(uBaseColor, vUv).rgb;
-    vec3 metallicRoughnessTexel = texture(uMetallicRoughness, vUv).rgb;
-    float metallic = clamp(metallicRoughness.x * metallicRoughnessTexel.b, 0.0, 1.0);
-    float roughness = clamp(metallicRoughness.y * metallicRoughnessTexel.g, 0.0, 1.0);
+    // The local frame, normal-mapped, then the tangent turned by the rotation map.
+    vec3 n = normalize(vNormal);
+    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
+    bool hasTangent = dot(t, t) > 1e-12; // meshes without usable uvs have none
+    t = hasTangent ? normalize(t) : normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
+    float handedness = (vTangent.w < 0.0 ? -1.0 : 1.0) * frameParams.x;
+    vec3 b = cross(n, t) * handedness;
+    if (hasTangent) {
+        vec3 tangentNormal = texture(uNormal, vUv).xyz * 2.0 - 1.0;
+        tangentNormal.xy *= emissiveNormalScale.w;
+        n = normalize(mat3(t, b, n) * tangentNormal);
+        t = normalize(t - n * dot(n, t));
+    }
+    // Back faces of double-sided materials are lit as seen from their side.
+    if (!gl_FrontFacing) {
+        n = -n;
+        t = -t;
+    }
 
-    vec3 n = shadingNormal();
+    vec3 base = texture(uBaseColor, vUv).rgb;
+    vec3 rhoD;
+    vec3 rhoS;
+    vec3 lobe;
+    float exponent;
+    float rotation;
+    if (metallicRoughness.z > 0.5) {
+        rhoD = baseColorFactor.rgb * base;
+        rhoS = specularFactor.rgb * texture(uSpecular, vUv).rgb;
+        vec4 lobeTexel = texture(uLobe, vUv);
+        lobe = lobeFactor.xyz * lobeTexel.rgb;
+        exponent = max(lobeFactor.w * lobeTexel.a, 1.0);
+        rotation = specularFactor.w * texture(uTangentRotation, vUv).r;
+    } else {
+        vec3 mr = texture(uMetallicRoughness, vUv).rgb;
+        float metallic = clamp(metallicRoughness.x * mr.b, 0.0, 1.0);
+        float roughness = clamp(metallicRoughness.y * mr.g, 0.0, 1.0);
+        vec3 colour = baseColorFactor.rgb * base;
+        rhoD = colour * (1.0 - metallic);
+        rhoS = mix(vec3(kDielectricSpecular), colour, metallic);
+        lobe = vec3(-1.0, -1.0, 1.0);
+        float alpha = max(roughness * roughness, 1e-4);
+        exponent = clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
+        rotation = 0.0;
+    }
+    // Towards B (mirrored uvs and mirrored cube-face frames turn the other way round).
+    t = rotateTangent(t, n, rotation * handedness);
+    b = cross(n, t) * handedness;
+
     vec3 v = normalize(-vPosition);
-    float nDotV = clamp(dot(n, v), 1e-4, 1.0);
-    vec3 reflected = reflect(-v, n);
-
-    vec3 diffuse = baseColor * (1.0 - metallic) * diffuseIrradianceOverPi(environmentFromCamera * n);
-
-    vec3 f0 = mix(vec3(0.04), baseColor, metallic);
-    vec2 brdf = environmentBrdf(roughness, nDotV);
-    // An explicit LOD: implicit derivatives jump across the map's u seam.
-    vec3 prefiltered = textureLod(uEnvironment, equirectUv(normalize(environmentFromCamera * reflected)),
-                                  roughness * environmentParams.x).rgb;
-    vec3 specular = prefiltered * (f0 * brdf.x + brdf.y);
-
+    LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
+    vec3 diffuse = rhoD * textureLod(uDiffuseMap, environmentFromCamera * n, 0.0).rgb;
+    vec3 specular = shade.specularWeight *
+                    environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 emissive = emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
+    vec3 radiance = diffuse + specular + emissive;
 
-    fragColor = vec4(encodeSrgb(toneMapAces(diffuse + specular + emissive)), 1.0);
+    fragColor = frameParams.y > 0.5 ? vec4(radiance, 1.0) : vec4(encodeSrgb(toneMapAces(radiance)), 1.0);
 }

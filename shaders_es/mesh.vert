@@ -1,12 +1,11 @@
 #version 300 es
-// A glTF primitive moved into the OpenCV camera frame (x right, y down, z forward), where
-// mesh.frag shades it, and on to clip space.
+// A glTF primitive moved into the view's camera frame (the OpenCV camera of the frame, or a
+// cube-face camera of an environment map), where mesh.frag shades it, and on to clip space.
 
 layout(std140) uniform Frame {
     mat4 clipFromCamera;
     mat3 environmentFromCamera;
-    vec4 irradianceSH[9];
-    vec4 environmentParams;
+    vec4 frameParams;
 };
 
 uniform mat4 uCameraFromMesh;

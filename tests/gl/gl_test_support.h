@@ -143,15 +143,4 @@ inline int toneMappedCode(double radiance)
     return int(std::lround(255.0 * srgbEncode(acesFilmic(radiance))));
 }
 
-// Karis 2014, "Physically Based Shading on Mobile": the environment BRDF's scale and bias
-// for F0, as a function of roughness and n.v.
-inline glm::dvec2 karisEnvironmentBrdf(double roughness, double nDotV)
-{
-    const glm::dvec4 c0(-1.0, -0.0275, -0.572, 0.022);
-    const glm::dvec4 c1(1.0, 0.0425, 1.04, -0.04);
-    const glm::dvec4 r = roughness * c0 + c1;
-    const double a004 = std::min(r.x * r.x, std::exp2(-9.28 * nDotV)) * r.x + r.y;
-    return glm::dvec2(-1.04, 1.04) * a004 + glm::dvec2(r.z, r.w);
-}
-
 } // namespace lumar::test

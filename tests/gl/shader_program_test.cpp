@@ -30,6 +30,9 @@ TEST_F(Shaders, EveryEmbeddedShaderCompiles)
     ASSERT_GE(shaders::all().size(), 4u);
     for (const shaders::Entry& entry : shaders::all()) {
         SCOPED_TRACE(std::string(entry.name));
+        // .glsl pieces are not stages: they are compiled inside the stages that include them.
+        if (entry.name.ends_with(".glsl"))
+            continue;
         EXPECT_NO_THROW(compileShader(entry.name));
     }
 }

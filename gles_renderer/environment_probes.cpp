@@ -1,0 +1,174 @@
+#include "gles_renderer/environment_probes.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "gles_renderer/camera_projection.h"
+#include "gles_renderer/cube_face_camera.h"
+#include "gles_renderer/gl_check.h"
+
+namespace lumar {
+namespace {
+
+// Faces see neighbours a few centimetres away; the owner is hidden, so nothing is closer.
+constexpr double kFaceNearMetres = 0.002;
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// With profiling, waits for the GPU so the time is the stage's own.
+void finishIf(bool profile)
+{
+    if (profile)
+        glFinish();
+}
+
+glm::dvec3 boundsCentre(const GpuModel& model)
+{
+    return 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+}
+
+} // namespace
+
+EnvironmentProbes::EnvironmentProbes(const EnvironmentMapOptions& options)
+    : options_(options), pipeline_(options.ibl), environmentMaps_(pipeline_.createMaps())
+{
+}
+
+const IblMaps* EnvironmentProbes::objectMaps(int object) const
+{
+    const auto it = probes_.find(object);
+    return it != probes_.end() && it->second.ready ? &it->second : nullptr;
+}
+
+void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& environment)
+{
+    pipeline_.renderMirror(environmentMaps_, [&](int face) {
+        pipeline_.drawSkybox(face, environment.equirect(), environment.equirectWidth(), 1.0f);
+    });
+    pipeline_.updateDerivedMaps(environmentMaps_);
+    environmentGeneration_ = environment.generation();
+    // Every object's maps show the old environment: render them again before use.
+    probes_.clear();
+    checkGlError("building the real environment's maps");
+}
+
+void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items)
+{
+    updates_.clear();
+    std::vector<size_t> owners; // items with a dynamic map, in order
+    for (size_t i = 0; i < items.size(); ++i)
+        if (items[i].object >= 0)
+            owners.push_back(i);
+    if (owners.empty())
+        return;
+    for (size_t k = 0; k < owners.size(); ++k) {
+        const size_t i = owners[k];
+        const bool ready = objectMaps(items[i].object) != nullptr;
+        switch (options_.policy) {
+        case EnvironmentMapPolicy::EveryFrame:
+            updates_.push_back(i);
+            break;
+        case EnvironmentMapPolicy::EveryKFrames:
+            // Staggered: object k updates on frames where (frame + k) % everyK == 0.
+            if (!ready || (frame_ + long(k)) % std::max(1, options_.everyK) == 0)
+                updates_.push_back(i);
+            break;
+        case EnvironmentMapPolicy::Budget:
+            break;
+        }
+    }
+    if (options_.policy != EnvironmentMapPolicy::Budget)
+        return;
+    // Round-robin from where the last frame stopped, while the estimate fits the budget.
+    const size_t count = owners.size();
+    const size_t affordable =
+        probeCostMs_ > 0.0 ? size_t(std::max(1.0, options_.budgetMs / probeCostMs_)) : size_t(1);
+    for (size_t n = 0; n < std::min(count, affordable); ++n)
+        updates_.push_back(owners[(roundRobin_ + n) % count]);
+    roundRobin_ = (roundRobin_ + std::min(count, affordable)) % count;
+}
+
+void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models,
+                                    std::span<const DrawItem> items, const EnvironmentLighting& environment,
+                                    const MeshPass& meshes, bool profile, RenderStats& stats)
+{
+    IblMaps& maps = probes_[items[owner].object];
+    if (!maps.mirror)
+        maps = pipeline_.createMaps();
+
+    const glm::dmat4& ownerFromModel = items[owner].cameraFromModel;
+    const glm::dvec3 centre = glm::dvec3(ownerFromModel * glm::dvec4(boundsCentre(models[size_t(items[owner].model)]), 1.0));
+    const int size = pipeline_.settings().mirrorSize;
+    const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
+
+    auto start = Clock::now();
+    pipeline_.renderMirror(maps, [&](int face) {
+        pipeline_.drawSkybox(face, environment.equirect(), environment.equirectWidth(), 1.0f);
+        const glm::dmat3 faceFromCube = faceCameraFromCube(face);
+        const glm::dmat4 faceFromCamera =
+            glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
+        faceItems_.assign(items.begin(), items.end());
+        for (DrawItem& item : faceItems_)
+            item.cameraFromModel = faceFromCamera * item.cameraFromModel;
+        FrameUniforms frame;
+        frame.clipFromCamera = glm::mat4(clip);
+        const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
+        for (int c = 0; c < 3; ++c)
+            frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
+        frame.frameParams = glm::vec4(-1.0f, 1.0f, 0.0f, 0.0f); // mirrored frame, linear radiance
+        meshes.draw(frame, models, faceItems_, maps_, int(owner));
+    });
+    finishIf(profile);
+    stats.environmentMapsMs += millisecondsSince(start);
+
+    start = Clock::now();
+    pipeline_.projectSH(maps);
+    finishIf(profile);
+    stats.shMs += millisecondsSince(start);
+
+    start = Clock::now();
+    pipeline_.prefilter(maps);
+    finishIf(profile);
+    stats.prefilterMs += millisecondsSince(start);
+    ++stats.mapsUpdated;
+}
+
+std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuModel>& models,
+                                                          std::span<const DrawItem> items,
+                                                          const EnvironmentLighting& environment,
+                                                          const MeshPass& meshes, bool profile, RenderStats& stats)
+{
+    if (environment.generation() != environmentGeneration_)
+        rebuildEnvironmentMaps(environment);
+
+    maps_.resize(items.size());
+    for (size_t i = 0; i < items.size(); ++i) {
+        const IblMaps* own = options_.dynamic && items[i].object >= 0 ? objectMaps(items[i].object) : nullptr;
+        maps_[i] = own ? own : &environmentMaps_;
+    }
+    if (options_.dynamic) {
+        chooseUpdates(items);
+        const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
+        for (const size_t i : updates_) {
+            const auto start = Clock::now();
+            renderProbe(i, models, items, environment, meshes, profile || timeProbes, stats);
+            if (timeProbes) {
+                const double cost = millisecondsSince(start);
+                probeCostMs_ = probeCostMs_ > 0.0 ? 0.8 * probeCostMs_ + 0.2 * cost : cost;
+            }
+            // From now on this frame (later probes and the frame itself) sees the new maps.
+            maps_[i] = &probes_[items[i].object];
+        }
+    }
+    ++frame_;
+    return maps_;
+}
+
+} // namespace lumar

@@ -1,0 +1,58 @@
+// The per-object dynamic environment maps of the paper (DESIGN.md §6.1): each scene object
+// owns an IblMaps set rendered from its bounding-box centre with itself hidden, holding the
+// real-environment skybox and the other objects shaded with their own maps as they stand
+// (one bounce of inter-reflection per frame). Which maps are re-rendered each frame follows
+// the configured policy; an object whose maps are not ready is lit by the real environment.
+#pragma once
+
+#include <map>
+#include <span>
+#include <vector>
+
+#include "gles_renderer/environment_lighting.h"
+#include "gles_renderer/gpu_model.h"
+#include "gles_renderer/ibl_pipeline.h"
+#include "gles_renderer/mesh_pass.h"
+#include "gles_renderer/scene_renderer.h"
+
+namespace lumar {
+
+class EnvironmentProbes {
+public:
+    explicit EnvironmentProbes(const EnvironmentMapOptions& options);
+
+    // Brings the maps up to date for this frame and returns, per item, the maps that shade
+    // it (valid until the next call). Rebuilds the real environment's own maps when it
+    // changed. Leaves the GL framebuffer binding and viewport changed.
+    std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                           const EnvironmentLighting& environment, const MeshPass& meshes,
+                                           bool profile, RenderStats& stats);
+
+    [[nodiscard]] const IblMaps* objectMaps(int object) const;
+    [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
+    // Forgets every object's maps (the models they showed are gone).
+    void clear() { probes_.clear(); }
+
+private:
+    void rebuildEnvironmentMaps(const EnvironmentLighting& environment);
+    // Which items get new maps this frame (indices into items).
+    void chooseUpdates(std::span<const DrawItem> items);
+    void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
+                     RenderStats& stats);
+
+    EnvironmentMapOptions options_;
+    IblPipeline pipeline_;
+    IblMaps environmentMaps_;
+    int environmentGeneration_ = -1;
+    std::map<int, IblMaps> probes_; // by DrawItem::object; node-based: pointers stay valid
+    long frame_ = 0;
+    size_t roundRobin_ = 0;
+    double probeCostMs_ = 0.0; // running mean cost of one probe (budget policy)
+    // Per-frame scratch, kept to avoid allocating every frame.
+    std::vector<const IblMaps*> maps_;
+    std::vector<size_t> updates_;
+    std::vector<DrawItem> faceItems_;
+};
+
+} // namespace lumar

@@ -1,0 +1,38 @@
+// The paper's four maps of one environment (DESIGN.md §6.1–6.3): the mirror map (an HDR
+// cube map, mipmapped), its nine SH coefficients (projected on the GPU with uniformly
+// spaced samples), and the maps derived from them: diffuse (E/pi from the SH), glossy-1 and
+// glossy-2 (Phong prefilters at two exponents). Each object owns one set; the real
+// environment alone owns another, used by objects whose own maps are not ready.
+#pragma once
+
+#include "gles_renderer/gl_object.h"
+
+namespace lumar {
+
+// Sizes and sample counts, chosen by measurement (tests/gl/ibl_maps_test.cpp prints the
+// errors against CPU brute force): the glossy lobes at n = 8 and 64 are wider than a texel
+// of 8 and 16 px faces; 4096 SH samples and 144 lobe samples were the smallest counts that
+// kept a sky with a sun within the stated bounds.
+struct IblSettings {
+    int mirrorSize = 64;         // px per face of the environment map
+    int shSamples = 4096;        // N uniformly spaced (spherical Fibonacci) directions
+    int shRows = 64;             // partial sums in pass 1 (N / rows samples per fragment)
+    int diffuseSize = 16;        // px per face of the diffuse map (8 px: bilinear errors ~0.5 %)
+    int glossy1Size = 16;        // ... of the glossy map at exponent glossy1Exponent
+    int glossy2Size = 16;        // ... at glossy2Exponent
+    int prefilterSamples = 144;  // equal-solid-angle lobe samples per glossy texel
+    float glossy1Exponent = 8.0f;
+    float glossy2Exponent = 64.0f;
+};
+
+struct IblMaps {
+    GlTexture mirror;       // RGBA16F cube, mipmapped
+    GlTexture coefficients; // RGBA32F 1 x 9: the SH9 of the mirror map (rgb)
+    GlTexture diffuse;      // RGBA16F cubes
+    GlTexture glossy1;
+    GlTexture glossy2;
+    int mirrorLevels = 1;
+    bool ready = false; // rendered at least once
+};
+
+} // namespace lumar

@@ -1,0 +1,70 @@
+// Builds IblMaps on the GPU: renders the mirror map face by face (the caller draws each
+// face's content, the pipeline offers the real-environment skybox), then projects it to SH
+// with uniformly spaced samples (sh_project + sh_reduce), renders the diffuse map from the
+// SH and the two glossy maps by Phong prefiltering (phong_prefilter).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gles_renderer/gl_object.h"
+#include "gles_renderer/ibl_maps.h"
+
+namespace lumar {
+
+class IblPipeline {
+public:
+    // Needs a current GLES 3 context that can render to RGBA16F and RGBA32F
+    // (EXT_color_buffer_float); throws RuntimeError naming what is missing.
+    explicit IblPipeline(const IblSettings& settings = {});
+
+    [[nodiscard]] const IblSettings& settings() const { return settings_; }
+
+    // Allocates the textures of one set (contents undefined until updated).
+    [[nodiscard]] IblMaps createMaps() const;
+
+    // Renders the six faces of maps.mirror: binds each face with a depth buffer, clears
+    // both and calls drawFace(face), then builds the mip chain. drawFace draws in the face
+    // camera of cube_face_camera.h; the viewport covers the face.
+    void renderMirror(IblMaps& maps, const std::function<void(int face)>& drawFace) const;
+
+    // Draws the equirectangular real environment (linear, mipmapped 2D texture of the given
+    // width) into the bound face, behind everything (no depth write).
+    void drawSkybox(int face, GLuint equirect, int equirectWidth, float intensity) const;
+
+    // SH projection, diffuse and glossy maps from maps.mirror.
+    void updateDerivedMaps(IblMaps& maps) const;
+    // The two halves of updateDerivedMaps, for per-stage timing.
+    void projectSH(IblMaps& maps) const;
+    void prefilter(IblMaps& maps) const;
+
+private:
+    struct Prefilter {
+        GlTexture samples; // RGBA32F, 1 row
+        float lod = 0.0f;
+    };
+    Prefilter makePrefilter(float exponent) const;
+    void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+
+    IblSettings settings_;
+    GlProgram skybox_;
+    GlProgram shProject_;
+    GlProgram shReduce_;
+    GlProgram diffuseFromSH_;
+    GlProgram phongPrefilter_;
+    GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
+    GLint diffuseEnvironmentFromFace_ = -1;
+    GLint prefilterEnvironmentFromFace_ = -1, prefilterLod_ = -1;
+    GlTexture shSamples_;   // RGBA32F: rows x (N / rows) directions
+    float shLod_ = 0.0f;
+    GlTexture partialSums_; // RGBA32F rows x 9
+    Prefilter glossy1_;
+    Prefilter glossy2_;
+    GlFramebuffer faceFramebuffer_;  // with depth, for mirror faces
+    GlFramebuffer plainFramebuffer_; // colour only, for derived maps
+    GlRenderbuffer depth_;
+};
+
+} // namespace lumar

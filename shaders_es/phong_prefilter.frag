@@ -1,0 +1,32 @@
+#version 300 es
+// A glossy map: the environment convolved with a normalised Phong lobe cos^n, one cube face
+// per draw. The lobe is integrated with equal-solid-angle samples of the cap where cos^n
+// matters (the same uniform-sample idea as the SH projection), each weighted by cos^n and
+// normalised to sum to one (uSamples.w), read from a mip level whose texels are about one
+// sample's solid angle so no radiance falls between samples.
+precision highp float;
+precision highp sampler2D;
+precision highp samplerCube;
+
+uniform mat3 uEnvironmentFromFace;
+uniform samplerCube uEnvironment;
+uniform sampler2D uSamples; // RGBA32F, 1 row: xyz around +z, w the normalised weight
+uniform float uLod;
+
+in vec3 vFaceDirection;
+out vec4 fragColor;
+
+void main()
+{
+    vec3 r = normalize(uEnvironmentFromFace * vFaceDirection);
+    vec3 helper = abs(r.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    vec3 t = normalize(cross(helper, r));
+    vec3 b = cross(r, t);
+    int count = textureSize(uSamples, 0).x;
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < count; ++k) {
+        vec4 s = texelFetch(uSamples, ivec2(k, 0), 0);
+        sum += textureLod(uEnvironment, t * s.x + b * s.y + r * s.z, uLod).rgb * s.w;
+    }
+    fragColor = vec4(sum, 1.0);
+}
