@@ -1,6 +1,7 @@
 # lumar_assets: CPU-side asset loading for the renderer (glTF models with their materials and
 # textures, Radiance .hdr environment maps, SH9 projection). No GL: unit tests link it alone.
 add_library(lumar_assets STATIC
+  "${CMAKE_CURRENT_LIST_DIR}/builtin_shapes.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/cube_map.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/environment_map.cpp"
   "${CMAKE_CURRENT_LIST_DIR}/gltf_accessors.cpp"

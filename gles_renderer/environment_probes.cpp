@@ -64,7 +64,7 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items)
     updates_.clear();
     std::vector<size_t> owners; // items with a dynamic map, in order
     for (size_t i = 0; i < items.size(); ++i)
-        if (items[i].object >= 0)
+        if (items[i].object >= 0 && !items[i].phantom)
             owners.push_back(i);
     if (owners.empty())
         return;
@@ -88,29 +88,29 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items)
         return;
     // Round-robin from where the last frame stopped, while the estimate fits the budget.
     const size_t count = owners.size();
-    const size_t affordable =
-        probeCostMs_ > 0.0 ? size_t(std::max(1.0, options_.budgetMs / probeCostMs_)) : size_t(1);
+    const size_t affordable = probeCostMs_ > 0.0 ? size_t(std::max(1.0, options_.budgetMs / probeCostMs_)) : size_t(1);
     for (size_t n = 0; n < std::min(count, affordable); ++n)
         updates_.push_back(owners[(roundRobin_ + n) % count]);
     roundRobin_ = (roundRobin_ + std::min(count, affordable)) % count;
 }
 
-void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models,
-                                    std::span<const DrawItem> items, const EnvironmentLighting& environment,
-                                    const MeshPass& meshes, bool profile, RenderStats& stats)
+void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                    const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
+                                    RenderStats& stats)
 {
     IblMaps& maps = probes_[items[owner].object];
     if (!maps.mirror)
         maps = pipeline_.createMaps();
 
     const glm::dmat4& ownerFromModel = items[owner].cameraFromModel;
-    const glm::dvec3 centre = glm::dvec3(ownerFromModel * glm::dvec4(boundsCentre(models[size_t(items[owner].model)]), 1.0));
+    const glm::dvec3 centre =
+        glm::dvec3(ownerFromModel * glm::dvec4(boundsCentre(models[size_t(items[owner].model)]), 1.0));
     const int size = pipeline_.settings().mirrorSize;
     const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
 
     auto start = Clock::now();
     pipeline_.renderMirror(maps, [&](int face) {
-        pipeline_.drawSkybox(face, environment.equirect(), environment.equirectWidth(), 1.0f);
+        pipeline_.copyFace(environmentMaps_, face);
         const glm::dmat3 faceFromCube = faceCameraFromCube(face);
         const glm::dmat4 faceFromCamera =
             glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
@@ -150,7 +150,8 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
 
     maps_.resize(items.size());
     for (size_t i = 0; i < items.size(); ++i) {
-        const IblMaps* own = options_.dynamic && items[i].object >= 0 ? objectMaps(items[i].object) : nullptr;
+        const IblMaps* own =
+            options_.dynamic && items[i].object >= 0 && !items[i].phantom ? objectMaps(items[i].object) : nullptr;
         maps_[i] = own ? own : &environmentMaps_;
     }
     if (options_.dynamic) {

@@ -25,8 +25,8 @@ public:
     // it (valid until the next call). Rebuilds the real environment's own maps when it
     // changed. Leaves the GL framebuffer binding and viewport changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                           const EnvironmentLighting& environment, const MeshPass& meshes,
-                                           bool profile, RenderStats& stats);
+                                           const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
+                                           RenderStats& stats);
 
     [[nodiscard]] const IblMaps* objectMaps(int object) const;
     [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
@@ -38,8 +38,7 @@ private:
     // Which items get new maps this frame (indices into items).
     void chooseUpdates(std::span<const DrawItem> items);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
-                     RenderStats& stats);
+                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile, RenderStats& stats);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;

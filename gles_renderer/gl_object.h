@@ -83,6 +83,7 @@ using GlVertexArray = GlObject<gl_traits::Generated<glGenVertexArrays, glDeleteV
 using GlTexture = GlObject<gl_traits::Generated<glGenTextures, glDeleteTextures>>;
 using GlFramebuffer = GlObject<gl_traits::Generated<glGenFramebuffers, glDeleteFramebuffers>>;
 using GlRenderbuffer = GlObject<gl_traits::Generated<glGenRenderbuffers, glDeleteRenderbuffers>>;
+using GlSampler = GlObject<gl_traits::Generated<glGenSamplers, glDeleteSamplers>>;
 using GlProgram = GlObject<gl_traits::Program>;
 using GlShader = GlObject<gl_traits::Shader>;
 

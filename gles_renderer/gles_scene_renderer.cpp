@@ -126,7 +126,7 @@ public:
         for (int c = 0; c < 3; ++c)
             frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
         frame_.frameParams = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
-        meshes_.draw(frame_, models_, items, maps);
+        meshes_.draw(frame_, models_, items, maps, -1, MeshPass::Phantoms::DepthOnly);
         target_.finishFrame();
         if (profile_) {
             glFinish();

@@ -83,6 +83,13 @@ float lodForSolidAngle(int size, float solidAngle)
     return std::max(0.0f, std::log2(float(size) / texelsPerSide));
 }
 
+// The exponent x such that lobe n2 followed by lobe x has the angular variance of lobe n1,
+// with a normalised Phong lobe's mean squared angle ~ 2 / (n + 2).
+float cascadedExponent(float n1, float n2)
+{
+    return 1.0f / (1.0f / (n1 + 2.0f) - 1.0f / (n2 + 2.0f)) - 2.0f;
+}
+
 glm::mat3 environmentFromFace(int face)
 {
     return glm::mat3(glm::transpose(faceCameraFromCube(face)));
@@ -142,11 +149,24 @@ IblPipeline::IblPipeline(const IblSettings& settings)
         texels.insert(texels.end(), {d.x, d.y, d.z, 0.0f});
     shSamples_ = makeFloatTexture(samples / settings_.shRows, settings_.shRows, texels.data());
     partialSums_ = makeFloatTexture(settings_.shRows, 9, nullptr);
-    glossy1_ = makePrefilter(settings_.glossy1Exponent);
-    glossy2_ = makePrefilter(settings_.glossy2Exponent);
+    // glossy-2 from the mirror map; glossy-1 from glossy-2 (cascaded: a Phong lobe of
+    // exponent n1 is close to n2's followed by the one whose angular variance makes up the
+    // difference, and the blurred source needs far fewer samples).
+    glossy2_ = makePrefilter(settings_.glossy2Exponent, settings_.prefilterSamples, settings_.mirrorSize);
+    glossy1_ = makePrefilter(cascadedExponent(settings_.glossy1Exponent, settings_.glossy2Exponent),
+                             settings_.cascadeSamples, settings_.glossy2Size);
+
+    // Sources of the sums are read from one mip level (bilinear): the LOD is chosen so a
+    // texel is about a sample's solid angle, and blending two levels doubled the cost.
+    nearestLevel_ = GlSampler::create();
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 
     faceFramebuffer_ = GlFramebuffer::create();
     plainFramebuffer_ = GlFramebuffer::create();
+    readFramebuffer_ = GlFramebuffer::create();
     depth_ = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, depth_.name());
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, settings_.mirrorSize, settings_.mirrorSize);
@@ -155,12 +175,12 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     checkGlError("creating the environment-map pipeline");
 }
 
-IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent) const
+IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent, int samples, int sourceSize) const
 {
     // Equal-solid-angle samples of the cap where cos^n >= kLobeCutoff, weighted by cos^n and
     // normalised: the discrete lobe integrates to exactly one, so a constant map stays constant.
     const float cosMax = std::pow(kLobeCutoff, 1.0f / exponent);
-    const std::vector<glm::vec3> cap = fibonacciCapSamples(settings_.prefilterSamples, cosMax);
+    const std::vector<glm::vec3> cap = fibonacciCapSamples(samples, cosMax);
     double total = 0.0;
     for (const glm::vec3& d : cap)
         total += std::pow(double(std::max(d.z, 0.0f)), double(exponent));
@@ -171,7 +191,7 @@ IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent) const
     Prefilter p;
     p.samples = makeFloatTexture(int(cap.size()), 1, texels.data());
     const float capSolidAngle = 2.0f * kPi * (1.0f - cosMax);
-    p.lod = lodForSolidAngle(settings_.mirrorSize, capSolidAngle / float(cap.size()));
+    p.lod = lodForSolidAngle(sourceSize, capSolidAngle / float(cap.size()));
     return p;
 }
 
@@ -223,8 +243,18 @@ void IblPipeline::drawSkybox(int face, GLuint equirect, int equirectWidth, float
     glDepthMask(GL_TRUE);
 }
 
-void IblPipeline::renderFaces(GLuint cube, int size, GLuint program,
-                              const std::function<void(int face)>& perFace) const
+void IblPipeline::copyFace(const IblMaps& source, int face) const
+{
+    const int size = settings_.mirrorSize;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, readFramebuffer_.name());
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face),
+                           source.mirror.name(), 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, faceFramebuffer_.name());
+    glBlitFramebuffer(0, 0, size, size, 0, 0, size, size, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, faceFramebuffer_.name());
+}
+
+void IblPipeline::renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const
 {
     glUseProgram(program);
     glViewport(0, 0, size, size);
@@ -249,7 +279,9 @@ void IblPipeline::projectSH(IblMaps& maps) const
     glUseProgram(shProject_.name());
     bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
     bindTextureUnit(kSamplesUnit, GL_TEXTURE_2D, shSamples_.name());
+    glBindSampler(GLuint(kSourceUnit), nearestLevel_.name());
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindSampler(GLuint(kSourceUnit), 0);
 
     // Pass 2: the sums of the rows, into the maps' 1 x 9 coefficient texture.
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, maps.coefficients.name(), 0);
@@ -272,8 +304,8 @@ void IblPipeline::prefilter(IblMaps& maps) const
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
-    const auto run = [&](const Prefilter& p, GLuint cube, int size) {
+    const auto run = [&](const Prefilter& p, GLuint source, GLuint cube, int size) {
+        bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, source);
         bindTextureUnit(kSamplesUnit, GL_TEXTURE_2D, p.samples.name());
         renderFaces(cube, size, phongPrefilter_.name(), [&](int face) {
             const glm::mat3 m = environmentFromFace(face);
@@ -281,8 +313,10 @@ void IblPipeline::prefilter(IblMaps& maps) const
             glUniform1f(prefilterLod_, p.lod);
         });
     };
-    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size);
-    run(glossy2_, maps.glossy2.name(), settings_.glossy2Size);
+    glBindSampler(GLuint(kSourceUnit), nearestLevel_.name());
+    run(glossy2_, maps.mirror.name(), maps.glossy2.name(), settings_.glossy2Size);
+    glBindSampler(GLuint(kSourceUnit), 0);
+    run(glossy1_, maps.glossy2.name(), maps.glossy1.name(), settings_.glossy1Size);
     maps.ready = true;
 }
 

@@ -34,6 +34,11 @@ public:
     // width) into the bound face, behind everything (no depth write).
     void drawSkybox(int face, GLuint equirect, int equirectWidth, float intensity) const;
 
+    // Copies face `face` of `source`'s mirror map (the same size) into the bound face: the
+    // real environment's own mirror map is every object map's backdrop, and a copy is
+    // cheaper than drawing the skybox again.
+    void copyFace(const IblMaps& source, int face) const;
+
     // SH projection, diffuse and glossy maps from maps.mirror.
     void updateDerivedMaps(IblMaps& maps) const;
     // The two halves of updateDerivedMaps, for per-stage timing.
@@ -45,7 +50,7 @@ private:
         GlTexture samples; // RGBA32F, 1 row
         float lod = 0.0f;
     };
-    Prefilter makePrefilter(float exponent) const;
+    Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
     void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
 
     IblSettings settings_;
@@ -57,13 +62,15 @@ private:
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
     GLint prefilterEnvironmentFromFace_ = -1, prefilterLod_ = -1;
-    GlTexture shSamples_;   // RGBA32F: rows x (N / rows) directions
+    GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
     GlTexture partialSums_; // RGBA32F rows x 9
     Prefilter glossy1_;
     Prefilter glossy2_;
+    GlSampler nearestLevel_;
     GlFramebuffer faceFramebuffer_;  // with depth, for mirror faces
     GlFramebuffer plainFramebuffer_; // colour only, for derived maps
+    GlFramebuffer readFramebuffer_;  // the source of copyFace
     GlRenderbuffer depth_;
 };
 

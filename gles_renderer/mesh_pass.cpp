@@ -9,7 +9,6 @@
 #include "gles_renderer/shader_program.h"
 
 namespace lumar {
-namespace {
 
 // Skips GL calls that would not change state: llvmpipe validates state on every change.
 class StateCache {
@@ -72,8 +71,6 @@ private:
     const IblMaps* maps_ = nullptr;
 };
 
-} // namespace
-
 MeshPass::MeshPass()
     : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
       normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), frameUniforms_(GlBuffer::create())
@@ -99,7 +96,7 @@ MeshPass::MeshPass()
 }
 
 void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                    std::span<const IblMaps* const> maps, int skip) const
+                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms) const
 {
     if (items.empty())
         return;
@@ -112,32 +109,40 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     StateCache state;
-
-    for (size_t i = 0; i < items.size(); ++i) {
-        if (int(i) == skip)
-            continue;
-        const DrawItem& item = items[i];
-        state.bindMaps(maps[i]);
-        const GpuModel& model = models[size_t(item.model)];
-        for (const GpuPrimitive& primitive : model.primitives) {
-            // Composed in double precision: model matrices may carry large translations.
-            const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
-            const glm::dmat3 linear(cameraFromMesh);
-            const double determinant = glm::determinant(linear);
-            if (determinant == 0.0 || !std::isfinite(determinant))
-                continue; // flattened to nothing: invisible
-            // A mirroring transform turns the winding around (see clipFromCamera for CW).
-            state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
-            const glm::mat4 cameraFromMeshF(cameraFromMesh);
-            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
-            glUniformMatrix4fv(cameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
-            glUniformMatrix3fv(normalFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
-            state.bindMaterial(&model.materials[primitive.material]);
-            glBindVertexArray(primitive.vertexArray.name());
-            glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
-        }
+    // With DepthOnly, two rounds: the phantoms into depth, then everything else in colour.
+    const int rounds = phantoms == Phantoms::DepthOnly ? 2 : 1;
+    for (int round = 0; round < rounds; ++round) {
+        if (rounds == 2)
+            glColorMask(round == 1, round == 1, round == 1, round == 1);
+        for (size_t i = 0; i < items.size(); ++i)
+            if (int(i) != skip && (rounds == 1 || items[i].phantom == (round == 0)))
+                drawItem(items[i], *maps[i], models, state);
     }
     glBindVertexArray(0);
+}
+
+void MeshPass::drawItem(const DrawItem& item, const IblMaps& maps, const std::vector<GpuModel>& models,
+                        StateCache& state) const
+{
+    state.bindMaps(&maps);
+    const GpuModel& model = models[size_t(item.model)];
+    for (const GpuPrimitive& primitive : model.primitives) {
+        // Composed in double precision: model matrices may carry large translations.
+        const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+        const glm::dmat3 linear(cameraFromMesh);
+        const double determinant = glm::determinant(linear);
+        if (determinant == 0.0 || !std::isfinite(determinant))
+            continue; // flattened to nothing: invisible
+        // A mirroring transform turns the winding around (see clipFromCamera for CW).
+        state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+        const glm::mat4 cameraFromMeshF(cameraFromMesh);
+        const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+        glUniformMatrix4fv(cameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+        glUniformMatrix3fv(normalFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+        state.bindMaterial(&model.materials[primitive.material]);
+        glBindVertexArray(primitive.vertexArray.name());
+        glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+    }
 }
 
 } // namespace lumar

@@ -13,6 +13,8 @@
 
 namespace lumar {
 
+class StateCache;
+
 class MeshPass {
 public:
     // Texture units of the material maps and the environment map.
@@ -33,10 +35,16 @@ public:
     // Draws `items` into the bound framebuffer (which must have been cleared of depth),
     // item i lit by maps[i]. Every item's model id must index `models` (the caller checks).
     // `skip`: an item index not to draw (an environment map's owner), or -1.
+    // `phantoms`: Shaded draws phantom items like the rest (environment maps); DepthOnly
+    // draws them first into depth alone (the frame: the camera image shows them).
+    enum class Phantoms { Shaded, DepthOnly };
     void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-              std::span<const IblMaps* const> maps, int skip = -1) const;
+              std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded) const;
 
 private:
+    void drawItem(const DrawItem& item, const IblMaps& maps, const std::vector<GpuModel>& models,
+                  StateCache& state) const;
+
     GlProgram program_;
     GLint cameraFromMeshLocation_;
     GLint normalFromMeshLocation_;

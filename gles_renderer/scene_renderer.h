@@ -24,6 +24,10 @@ struct DrawItem {
     // A stable id of the scene object this item draws (>= 0): it owns a dynamic environment
     // map kept from frame to frame. -1: lit by the real environment alone.
     int object = -1;
+    // A proxy of a real object (DESIGN.md §6.5): it writes depth in the frame (virtual
+    // objects behind it are hidden, the camera image shows through) and is drawn, lit, in
+    // the environment maps (virtual objects reflect it).
+    bool phantom = false;
 };
 
 // When the per-object environment maps are re-rendered (DESIGN.md §6.1).

@@ -2,11 +2,15 @@
 
 #include <chrono>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "capture/prefetching_source.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/builtin_shapes.h"
 #include "gles_renderer/environment_map.h"
 #include "gles_renderer/gltf_model.h"
+#include "gles_renderer/material_sidecar.h"
 #include "object_placement.h"
 #include "tracking/calibration_io.h"
 
@@ -42,6 +46,38 @@ TagSizes tagSizesFor(const Config& config)
     return sizes;
 }
 
+// The object's model with its materials: a file or a built-in shape, then the sidecar's
+// Lafortune materials, then the preset for every material.
+GltfModel loadObjectModel(const ObjectConfig& object)
+{
+    const std::string model = object.model.string();
+    GltfModel loaded = model.starts_with(kBuiltinModelPrefix)
+                           ? makeBuiltinShape(std::string_view(model).substr(kBuiltinModelPrefix.size()))
+                           : loadGltfModel(object.model);
+    if (!object.materials.empty())
+        applyMaterialSidecar(loaded, loadMaterialSidecar(object.materials));
+    if (!object.material.empty()) {
+        MaterialSidecar everything;
+        everything.materials["*"].preset = object.material;
+        applyMaterialSidecar(loaded, everything);
+    }
+    return loaded;
+}
+
+RenderOptions renderOptionsFor(const RenderingConfig& rendering)
+{
+    RenderOptions options;
+    EnvironmentMapOptions& maps = options.environmentMaps;
+    maps.dynamic = rendering.environmentMaps != "off";
+    maps.policy = rendering.environmentMaps == "every_k"  ? EnvironmentMapPolicy::EveryKFrames
+                  : rendering.environmentMaps == "budget" ? EnvironmentMapPolicy::Budget
+                                                          : EnvironmentMapPolicy::EveryFrame;
+    maps.everyK = rendering.environmentMapEvery;
+    maps.budgetMs = rendering.environmentMapBudgetMs;
+    maps.ibl.mirrorSize = rendering.environmentMapSize;
+    return options;
+}
+
 // A dim neutral environment for configs without an HDR map.
 ImageF neutralEnvironment()
 {
@@ -52,7 +88,7 @@ ImageF neutralEnvironment()
 
 } // namespace
 
-Pipeline::Pipeline(const Config& config) : config_(config)
+Pipeline::Pipeline(const Config& config, bool profile) : config_(config)
 {
     filterSettings_.minCutoffHz = config_.tracking.filterMinCutoffHz;
     filterSettings_.beta = config_.tracking.filterBeta;
@@ -67,11 +103,13 @@ Pipeline::Pipeline(const Config& config) : config_(config)
     std::vector<GltfModel> models;
     models.reserve(config_.objects.size());
     for (const ObjectConfig& object : config_.objects)
-        models.push_back(loadGltfModel(object.model));
+        models.push_back(loadObjectModel(object));
     const ImageF environment =
         config_.environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(config_.environment.hdr);
 
-    renderer_ = SceneRenderer::create(capture_->width(), capture_->height());
+    RenderOptions options = renderOptionsFor(config_.rendering);
+    options.profile = profile;
+    renderer_ = SceneRenderer::create(capture_->width(), capture_->height(), options);
     renderer_->setEnvironment(environment, float(config_.environment.intensity));
     for (size_t i = 0; i < models.size(); ++i) {
         const ObjectConfig& object = config_.objects[i];
@@ -83,7 +121,21 @@ Pipeline::Pipeline(const Config& config) : config_(config)
         LUMAR_LOG(App, Info) << "object '" << object.name << "': " << object.model.string() << " ("
                              << models[i].triangleCount() << " triangles) on marker " << object.marker;
     }
-    drawItems_.reserve(objects_.size());
+    for (const PhantomConfig& phantom : config_.phantoms) {
+        GltfModel box = makeCube();
+        GltfMaterial& material = box.materials[0];
+        material.name = phantom.name;
+        material.baseColorFactor = glm::vec4(glm::vec3(phantom.color), 1.0f);
+        material.metallicFactor = 0.0f;
+        material.roughnessFactor = 1.0f;
+        PlacedObject placed;
+        placed.model = renderer_->addModel(box);
+        placed.marker = phantom.marker;
+        placed.markerFromModel =
+            glm::translate(glm::dmat4(1.0), phantom.offset) * glm::scale(glm::dmat4(1.0), phantom.size);
+        phantoms_.push_back(placed);
+    }
+    drawItems_.reserve(objects_.size() + phantoms_.size());
 }
 
 Pipeline::~Pipeline() = default;
@@ -120,13 +172,21 @@ bool Pipeline::step(FrameReport& report)
     start = std::chrono::steady_clock::now();
     drawItems_.clear();
     const MarkerState* environmentAnchor = nullptr;
-    for (const PlacedObject& object : objects_) {
+    for (size_t i = 0; i < objects_.size(); ++i) {
+        const PlacedObject& object = objects_[i];
         const auto it = markers_.find(object.marker);
         if (it == markers_.end() || frame_.sequence - it->second.lastSeen > kMarkerHoldFrames)
             continue;
-        drawItems_.push_back({object.model, it->second.cameraFromMarker.matrix() * object.markerFromModel});
+        // The configured object's index names its environment map from frame to frame.
+        drawItems_.push_back({object.model, it->second.cameraFromMarker.matrix() * object.markerFromModel, int(i)});
         if (!environmentAnchor)
             environmentAnchor = &it->second;
+    }
+    for (const PlacedObject& phantom : phantoms_) {
+        const auto it = markers_.find(phantom.marker);
+        if (it != markers_.end() && frame_.sequence - it->second.lastSeen <= kMarkerHoldFrames)
+            drawItems_.push_back(
+                {phantom.model, it->second.cameraFromMarker.matrix() * phantom.markerFromModel, -1, true});
     }
     if (environmentAnchor) {
         const glm::dmat3 markerFromCamera = glm::transpose(environmentAnchor->cameraFromMarker.R);
@@ -140,6 +200,11 @@ bool Pipeline::step(FrameReport& report)
     renderer_->readback(output_);
     report.times.readbackMs = millisecondsSince(start);
     return true;
+}
+
+RenderStats Pipeline::renderStats() const
+{
+    return renderer_->lastStats();
 }
 
 } // namespace lumar

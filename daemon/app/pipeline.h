@@ -33,7 +33,9 @@ class Pipeline {
 public:
     // Opens the camera, loads calibration, models and environment, creates the GL context.
     // Throws InputError for bad files, RuntimeError for a platform failure.
-    explicit Pipeline(const Config& config);
+    // `profile`: the renderer times its stages (waiting for the GPU between them), for bench.
+    explicit Pipeline(const Config& config, bool profile = false);
+    [[nodiscard]] RenderStats renderStats() const;
     ~Pipeline();
     Pipeline(const Pipeline&) = delete;
     Pipeline& operator=(const Pipeline&) = delete;
@@ -66,6 +68,7 @@ private:
     std::unique_ptr<TagTracker> tracker_;
     std::unique_ptr<SceneRenderer> renderer_;
     std::vector<PlacedObject> objects_;
+    std::vector<PlacedObject> phantoms_; // markerFromModel scales the unit cube to the box
     std::map<int, MarkerState> markers_;
     PoseFilterSettings filterSettings_;
     std::vector<DrawItem> drawItems_;

@@ -18,13 +18,17 @@ namespace lumar {
 namespace {
 
 constexpr const char* kHelp =
-    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--log-level SPEC]
+    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--no-profile] [--log-level SPEC]
 
 Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
 whole pipeline without pacing or output, and prints frames per second, frame-time
 percentiles, the mean time of each stage and the resident memory. Capture runs one frame
 ahead on its own thread, so "capture" is the time the pipeline waited for it.
-  --json   one JSON object instead of a table
+The render stage is split into its parts (environment maps, SH projection with the diffuse
+map, glossy prefilter, shading of the frame) by waiting for the GPU between them, which a
+GPU would otherwise overlap with the next stage; --no-profile measures without the waits.
+  --json         one JSON object instead of a table
+  --no-profile   do not split the render stage
 )";
 
 double percentile(std::vector<double> values, double p)
@@ -60,7 +64,8 @@ double residentMegabytes()
 
 int benchCommand(const Args& args)
 {
-    const CommandLine cl(args, {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"log-level"}});
+    const CommandLine cl(args,
+                         {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"no-profile", false}, {"log-level"}});
     if (cl.helpRequested()) {
         std::fputs(kHelp, stdout);
         return kExitOk;
@@ -71,14 +76,17 @@ int benchCommand(const Args& args)
     const long warmup = cl.integer("warmup", 10, 0, 10000);
 
     const Config config = configFromCommandLine(cl);
-    Pipeline pipeline(config);
+    const bool profile = !cl.has("no-profile");
+    Pipeline pipeline(config, profile);
     FrameReport report;
     for (long i = 0; i < warmup; ++i)
         if (!pipeline.step(report))
             throw InputError("the camera source ended during warm-up");
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs;
-    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs})
+    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, mapsUpdated;
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &environmentMapsMs, &shMs, &prefilterMs,
+                    &shadingMs, &mapsUpdated})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -91,6 +99,12 @@ int benchCommand(const Args& args)
         detectMs.push_back(report.times.detectMs);
         renderMs.push_back(report.times.renderMs);
         readbackMs.push_back(report.times.readbackMs);
+        const RenderStats stats = pipeline.renderStats();
+        environmentMapsMs.push_back(stats.environmentMapsMs);
+        shMs.push_back(stats.shMs);
+        prefilterMs.push_back(stats.prefilterMs);
+        shadingMs.push_back(stats.shadingMs);
+        mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
     const double seconds = std::chrono::duration<double>(last - start).count();
@@ -99,10 +113,14 @@ int benchCommand(const Args& args)
 
     if (cl.has("json")) {
         std::printf("{\"frames\":%ld,\"width\":%d,\"height\":%d,\"fps\":%.2f,\"frame_ms\":{\"p50\":%.3f,\"p99\":%.3f},"
-                    "\"stages_ms\":{\"capture\":%.3f,\"detect\":%.3f,\"render\":%.3f,\"readback\":%.3f},"
-                    "\"rss_mb\":%.1f}\n",
+                    "\"stages_ms\":{\"capture\":%.3f,\"detect\":%.3f,\"render\":%.3f,\"readback\":%.3f",
                     measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), mean(captureMs),
-                    mean(detectMs), mean(renderMs), mean(readbackMs), residentMegabytes());
+                    mean(detectMs), mean(renderMs), mean(readbackMs));
+        if (profile)
+            std::printf(",\"env_maps\":%.3f,\"sh\":%.3f,\"prefilter\":%.3f,\"shading\":%.3f", mean(environmentMapsMs),
+                        mean(shMs), mean(prefilterMs), mean(shadingMs));
+        std::printf("},\"env_maps_per_frame\":%.2f,\"profiled\":%s,\"rss_mb\":%.1f}\n", mean(mapsUpdated),
+                    profile ? "true" : "false", residentMegabytes());
     } else {
         std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n", measured,
                     width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), residentMegabytes());
@@ -112,6 +130,14 @@ int benchCommand(const Args& args)
         for (const auto& [name, values] : stages)
             std::printf("  %-9s %8.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                         percentile(*values, 0.99));
+        if (profile) {
+            std::printf("  render, split (%.2f environment maps updated per frame):\n", mean(mapsUpdated));
+            const std::pair<const char*, const std::vector<double>*> parts[] = {
+                {"env_maps", &environmentMapsMs}, {"sh", &shMs}, {"prefilter", &prefilterMs}, {"shading", &shadingMs}};
+            for (const auto& [name, values] : parts)
+                std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
+                            percentile(*values, 0.99));
+        }
     }
     return kExitOk;
 }

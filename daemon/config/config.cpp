@@ -11,6 +11,9 @@
 #include "config/toml_reader.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/builtin_shapes.h"
+#include "gles_renderer/lafortune_material.h"
+#include "gles_renderer/material_sidecar.h"
 
 namespace lumar {
 namespace {
@@ -144,10 +147,28 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
             r.fail(node, "name", "duplicate object name '" + object.name + "'");
         if (!r.has("model"))
             r.failMissing("model");
-        r.path("model", object.model, ctx.baseDir, Expect::File);
-        const auto extension = object.model.extension();
-        if (extension != ".gltf" && extension != ".glb")
-            r.fail(node, "model", object.model.string() + ": expected a .gltf or .glb file");
+        std::string model;
+        r.string("model", model);
+        if (model.starts_with(kBuiltinModelPrefix)) {
+            if (!isBuiltinShape(model.substr(kBuiltinModelPrefix.size())))
+                r.fail(node, "model", "'" + model + "' is not a built-in shape (builtin:sphere, builtin:cube)");
+            object.model = model;
+        } else {
+            r.path("model", object.model, ctx.baseDir, Expect::File);
+            const auto extension = object.model.extension();
+            if (extension != ".gltf" && extension != ".glb")
+                r.fail(node, "model", object.model.string() + ": expected a .gltf or .glb file");
+        }
+        r.path("materials", object.materials, ctx.baseDir, Expect::File);
+        if (!object.materials.empty())
+            loadMaterialSidecar(object.materials); // reports its own FILE:LINE errors
+        r.string("material", object.material);
+        if (!object.material.empty() && !materialPreset(object.material)) {
+            std::string known;
+            for (const std::string_view name : materialPresetNames())
+                known += (known.empty() ? "" : ", ") + std::string(name);
+            r.fail(node, "material", "'" + object.material + "' is not a material preset (" + known + ")");
+        }
         if (!r.has("marker"))
             r.failMissing("marker");
         r.integer("marker", object.marker, 0, 1 << 20);
@@ -164,6 +185,38 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
     });
 }
 
+void readPhantoms(TableReader& root, std::vector<PhantomConfig>& phantoms, const std::vector<MarkerConfig>& markers)
+{
+    std::set<std::string> names;
+    forEachTable(root, "phantoms", [&](TableReader& r, const toml::node* node) {
+        PhantomConfig phantom;
+        phantom.name = "phantom" + std::to_string(phantoms.size());
+        r.string("name", phantom.name);
+        if (!names.insert(phantom.name).second)
+            r.fail(node, "name", "duplicate phantom name '" + phantom.name + "'");
+        if (!r.has("marker"))
+            r.failMissing("marker");
+        r.integer("marker", phantom.marker, 0, 1 << 20);
+        bool known = false;
+        for (const MarkerConfig& m : markers)
+            known = known || m.id == phantom.marker;
+        if (!known)
+            r.fail(node, "marker", "marker " + std::to_string(phantom.marker) + " is not listed in [[markers]]");
+        if (!r.has("size"))
+            r.failMissing("size");
+        r.vec3("size", phantom.size);
+        if (!(phantom.size.x > 0 && phantom.size.y > 0 && phantom.size.z > 0 && phantom.size.x < 100 &&
+              phantom.size.y < 100 && phantom.size.z < 100))
+            r.fail(node, "size", "each side must be in (0, 100) metres");
+        r.vec3("offset", phantom.offset);
+        r.vec3("color", phantom.color);
+        for (int c = 0; c < 3; ++c)
+            if (!(phantom.color[c] >= 0.0 && phantom.color[c] <= 1.0))
+                r.fail(node, "color", "each channel must be in [0, 1]");
+        phantoms.push_back(phantom);
+    });
+}
+
 void readEnvironment(TableReader& root, EnvironmentConfig& environment, const Context& ctx)
 {
     const toml::table* table = root.table("environment");
@@ -172,6 +225,23 @@ void readEnvironment(TableReader& root, EnvironmentConfig& environment, const Co
     TableReader r(*table, "environment", ctx.fileName);
     r.path("hdr", environment.hdr, ctx.baseDir, Expect::File);
     r.number("intensity", environment.intensity, 0.0, 100.0);
+    r.finish();
+}
+
+void readRendering(TableReader& root, RenderingConfig& rendering, const Context& ctx)
+{
+    const toml::table* table = root.table("rendering");
+    if (!table)
+        return;
+    TableReader r(*table, "rendering", ctx.fileName);
+    r.oneOf("environment_maps", rendering.environmentMaps, {"every_frame", "every_k", "budget", "off"});
+    r.integer("environment_map_every", rendering.environmentMapEvery, 1, 1000);
+    r.number("environment_map_budget_ms", rendering.environmentMapBudgetMs, 0.0, 1000.0, true);
+    r.integer("environment_map_size", rendering.environmentMapSize, 16, 256);
+    const int size = rendering.environmentMapSize;
+    if ((size & (size - 1)) != 0)
+        r.fail(table->get("environment_map_size"), "environment_map_size",
+               std::to_string(size) + " is not a power of two");
     r.finish();
 }
 
@@ -236,7 +306,9 @@ Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
     readTracking(r, config.tracking, ctx);
     readMarkers(r, config.markers);
     readObjects(r, config.objects, config.markers, ctx);
+    readPhantoms(r, config.phantoms, config.markers);
     readEnvironment(r, config.environment, ctx);
+    readRendering(r, config.rendering, ctx);
     readOutput(r, config.output, ctx);
     r.finish();
     return config;

@@ -60,17 +60,37 @@ struct MarkerConfig {
 
 struct ObjectConfig {
     std::string name;
-    std::filesystem::path model; // glTF 2.0 (.gltf or .glb)
-    int marker = 0;              // id of the marker it sits on
-    glm::dvec3 offset{0.0};      // metres, marker frame
-    glm::dvec3 rotationDeg{0.0}; // XYZ Euler angles applied after the Y-up→Z-up turn
-    double scale = 1.0;          // uniform; or set `size` to fit the longest side
-    double size = 0.0;           // metres; > 0 overrides scale
+    std::filesystem::path model;     // glTF 2.0 (.gltf or .glb), or "builtin:sphere" / "builtin:cube"
+    std::filesystem::path materials; // optional sidecar TOML of Lafortune materials
+    std::string material;            // optional preset for every material (e.g. "chrome")
+    int marker = 0;                  // id of the marker it sits on
+    glm::dvec3 offset{0.0};          // metres, marker frame
+    glm::dvec3 rotationDeg{0.0};     // XYZ Euler angles applied after the Y-up→Z-up turn
+    double scale = 1.0;              // uniform; or set `size` to fit the longest side
+    double size = 0.0;               // metres; > 0 overrides scale
 };
 
 struct EnvironmentConfig {
     std::filesystem::path hdr; // equirectangular Radiance .hdr
     double intensity = 1.0;
+};
+
+// A proxy of a real object (DESIGN.md §6.5): a box placed on a marker. It hides virtual
+// objects behind it and appears, plainly coloured, in their environment maps.
+struct PhantomConfig {
+    std::string name;
+    int marker = 0;
+    glm::dvec3 size{0.1};   // metres along the marker's x, y, z (z out of the tag)
+    glm::dvec3 offset{0.0}; // the box centre in the marker frame, metres
+    glm::dvec3 color{0.5};  // linear diffuse albedo, each in [0, 1]
+};
+
+// The paper's per-object environment maps (DESIGN.md §6.1).
+struct RenderingConfig {
+    std::string environmentMaps = "every_frame"; // every_frame | every_k | budget | off
+    int environmentMapEvery = 2;                 // every_k: each object every k-th frame
+    double environmentMapBudgetMs = 8.0;         // budget: milliseconds per frame
+    int environmentMapSize = 64;                 // px per cube face, a power of two 16..256
 };
 
 struct OutputConfig {
@@ -86,7 +106,9 @@ struct Config {
     TrackingConfig tracking;
     std::vector<MarkerConfig> markers;
     std::vector<ObjectConfig> objects;
+    std::vector<PhantomConfig> phantoms;
     EnvironmentConfig environment;
+    RenderingConfig rendering;
     OutputConfig output;
 
     // The size of marker `id`, or 0 when the config does not know that marker.

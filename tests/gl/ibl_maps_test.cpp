@@ -99,7 +99,8 @@ MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label)
     const CubeMapF mirror = test::readCube(maps.mirror.name(), settings.mirrorSize);
     const float scale = maxComponent(mirror);
     MapErrors e{};
-    e.mirror = maxRelativeError(mirror, [&](glm::vec3 d) { return sampleEquirectBilinear(sky, d); }, scale);
+    e.mirror = maxRelativeError(
+        mirror, [&](glm::vec3 d) { return sampleEquirectBilinear(sky, d); }, scale);
     e.mirrorEnergy = float(sh9RelativeError(projectCubeSH9BruteForce(mirror), projectEquirectSH9(sky)));
 
     const SH9 gpuSH = readCoefficients(maps);
@@ -108,7 +109,8 @@ MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label)
     const CubeMapF diffuse = test::readCube(maps.diffuse.name(), settings.diffuseSize);
     const float diffuseScale = maxComponent(diffuse);
     e.diffuse = maxRelativeError(
-        diffuse, [&](glm::vec3 d) { return glm::max(irradianceSH9(gpuSH, d) / std::numbers::pi_v<float>, glm::vec3(0)); },
+        diffuse,
+        [&](glm::vec3 d) { return glm::max(irradianceSH9(gpuSH, d) / std::numbers::pi_v<float>, glm::vec3(0)); },
         diffuseScale);
 
     const CubeMapF glossy1 = test::readCube(maps.glossy1.name(), settings.glossy1Size);
@@ -119,9 +121,10 @@ MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label)
     e.glossy2 = maxRelativeError(
         glossy2, [&](glm::vec3 d) { return prefilterPhongBruteForce(mirror, d, settings.glossy2Exponent); },
         maxComponent(glossy2));
-    std::printf("%s: mirror %.4f (SH9 of it %.4f), SH9 %.4f, diffuse %.4f, glossy n=%g %.4f, glossy n=%g %.4f (of the map's peak)\n",
-                label, e.mirror, e.mirrorEnergy, e.sh, e.diffuse, settings.glossy1Exponent, e.glossy1, settings.glossy2Exponent,
-                e.glossy2);
+    std::printf("%s: mirror %.4f (SH9 of it %.4f), SH9 %.4f, diffuse %.4f, glossy n=%g %.4f, glossy n=%g %.4f (of the "
+                "map's peak)\n",
+                label, e.mirror, e.mirrorEnergy, e.sh, e.diffuse, settings.glossy1Exponent, e.glossy1,
+                settings.glossy2Exponent, e.glossy2);
     return e;
 }
 
