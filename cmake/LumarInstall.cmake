@@ -1,12 +1,12 @@
 # Install layout (`cmake --install`; configure with -DCMAKE_INSTALL_PREFIX=/usr for a system
 # installation, which puts the configuration in /etc/lumar):
-#   bin/lumar, share/lumar/{models,env,calibration}, /etc/lumar/lumar.toml (the documented
+#   bin/lumar, share/lumar/{models,env,calibration,scenes}, /etc/lumar/lumar.toml (the documented
 #   example with absolute asset paths), lib/systemd/system/lumar.service.
 include(GNUInstallDirs)
 
 install(TARGETS lumar RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/daemon/assets/models" "${PROJECT_SOURCE_DIR}/daemon/assets/env"
-                  "${PROJECT_SOURCE_DIR}/daemon/assets/calibration"
+                  "${PROJECT_SOURCE_DIR}/daemon/assets/calibration" "${PROJECT_SOURCE_DIR}/daemon/assets/scenes"
         DESTINATION ${CMAKE_INSTALL_DATADIR}/lumar)
 install(FILES "${PROJECT_SOURCE_DIR}/daemon/assets/README.md" DESTINATION ${CMAKE_INSTALL_DATADIR}/lumar)
 
