@@ -1,0 +1,124 @@
+// Configuration of the paper's rendering: [rendering] (environment-map policy and size),
+// objects' Lafortune materials (preset, sidecar) and built-in shapes, and [[phantoms]];
+// each error with its exact "FILE:LINE: key:" prefix. The shipped demo scenes parse.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "config/config.h"
+#include "core/error.h"
+
+namespace lumar {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneConfigTest : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir_ = fs::temp_directory_path() /
+               ("lumar-scene-config-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        fs::copy_file(fs::path(LUMAR_TEST_DATA_DIR) / "models/BoxTextured.glb", dir_ / "box.glb");
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    Config parse(const std::string& text) { return parseConfig(text, "test.toml", dir_); }
+
+    void expectError(const std::string& text, const std::string& prefix)
+    {
+        try {
+            (void)parse(text);
+        } catch (const InputError& e) {
+            const std::string message = e.what();
+            EXPECT_EQ(message.rfind(prefix, 0), 0u) << "message: " << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+            return;
+        }
+        ADD_FAILURE() << "no error for:\n" << text;
+    }
+
+    fs::path dir_;
+};
+
+const std::string kMarker = "[[markers]]\nid = 0\nsize = 0.16\n";
+
+TEST_F(SceneConfigTest, RenderingDefaultsAndValues)
+{
+    const Config defaults = parse("");
+    EXPECT_EQ(defaults.rendering.environmentMaps, "every_frame");
+    EXPECT_EQ(defaults.rendering.environmentMapSize, 64);
+    const Config c = parse("[rendering]\nenvironment_maps = \"budget\"\nenvironment_map_every = 3\n"
+                           "environment_map_budget_ms = 5.5\nenvironment_map_size = 128\n");
+    EXPECT_EQ(c.rendering.environmentMaps, "budget");
+    EXPECT_EQ(c.rendering.environmentMapEvery, 3);
+    EXPECT_DOUBLE_EQ(c.rendering.environmentMapBudgetMs, 5.5);
+    EXPECT_EQ(c.rendering.environmentMapSize, 128);
+}
+
+TEST_F(SceneConfigTest, RenderingErrorsNameTheLine)
+{
+    expectError("[rendering]\nenvironment_maps = \"sometimes\"\n", "test.toml:2: rendering.environment_maps:");
+    expectError("[rendering]\n\nenvironment_map_size = 100\n", "test.toml:3: rendering.environment_map_size:");
+    expectError("[rendering]\nenvironment_map_size = 512\n", "test.toml:2: rendering.environment_map_size:");
+    expectError("[rendering]\nenvironment_map_budget_ms = 0\n", "test.toml:2: rendering.environment_map_budget_ms:");
+    expectError("[rendering]\nenvironment_map_every = 0\n", "test.toml:2: rendering.environment_map_every:");
+    expectError("[rendering]\nshadows = true\n", "test.toml:2: rendering.shadows: unknown key");
+}
+
+TEST_F(SceneConfigTest, ObjectsTakeBuiltInShapesPresetsAndSidecars)
+{
+    std::ofstream(dir_ / "box.materials.toml") << "[material.\"*\"]\npreset = \"chrome\"\n";
+    const Config c = parse(kMarker + "[[objects]]\nmodel = \"builtin:sphere\"\nmarker = 0\nmaterial = \"chrome\"\n" +
+                           "[[objects]]\nmodel = \"box.glb\"\nmarker = 0\nmaterials = \"box.materials.toml\"\n");
+    ASSERT_EQ(c.objects.size(), 2u);
+    EXPECT_EQ(c.objects[0].model, fs::path("builtin:sphere"));
+    EXPECT_EQ(c.objects[0].material, "chrome");
+    EXPECT_EQ(c.objects[1].materials, dir_ / "box.materials.toml");
+}
+
+TEST_F(SceneConfigTest, ObjectMaterialErrorsNameTheLine)
+{
+    expectError(kMarker + "[[objects]]\nmodel = \"builtin:teapot\"\nmarker = 0\n", "test.toml:4: objects[0].model:");
+    expectError(kMarker + "[[objects]]\nmodel = \"box.glb\"\nmarker = 0\nmaterial = \"velvet\"\n",
+                "test.toml:4: objects[0].material:");
+    expectError(kMarker + "[[objects]]\nmodel = \"box.glb\"\nmarker = 0\nmaterials = \"none.toml\"\n",
+                "test.toml:7: objects[0].materials:");
+    // A broken sidecar reports its own file and line.
+    std::ofstream(dir_ / "bad.toml") << "[material.\"*\"]\n\npreset = \"unobtainium\"\n";
+    expectError(kMarker + "[[objects]]\nmodel = \"box.glb\"\nmarker = 0\nmaterials = \"bad.toml\"\n",
+                (dir_ / "bad.toml").string() + ":3:");
+}
+
+TEST_F(SceneConfigTest, PhantomsAndTheirErrors)
+{
+    const Config c = parse(kMarker + "[[phantoms]]\nname = \"table\"\nmarker = 0\nsize = [1.2, 0.8, 0.02]\n"
+                                     "offset = [0.0, 0.0, -0.01]\ncolor = [0.4, 0.3, 0.2]\n");
+    ASSERT_EQ(c.phantoms.size(), 1u);
+    EXPECT_EQ(c.phantoms[0].name, "table");
+    EXPECT_DOUBLE_EQ(c.phantoms[0].size.x, 1.2);
+    EXPECT_DOUBLE_EQ(c.phantoms[0].offset.z, -0.01);
+    EXPECT_DOUBLE_EQ(c.phantoms[0].color.g, 0.3);
+
+    expectError(kMarker + "[[phantoms]]\nmarker = 0\n", "test.toml:4: phantoms[0].size:");
+    expectError(kMarker + "[[phantoms]]\nmarker = 7\nsize = [1, 1, 1]\n", "test.toml:4: phantoms[0].marker:");
+    expectError(kMarker + "[[phantoms]]\nmarker = 0\nsize = [1, 0, 1]\n", "test.toml:4: phantoms[0].size:");
+    expectError(kMarker + "[[phantoms]]\nmarker = 0\nsize = [1, 1, 1]\ncolor = [2, 0, 0]\n",
+                "test.toml:4: phantoms[0].color:");
+}
+
+TEST_F(SceneConfigTest, ShippedDemoScenesParse)
+{
+    for (const char* scene : {"car.toml", "mirror_ball.toml"}) {
+        SCOPED_TRACE(scene);
+        const Config c = loadConfig(fs::path(LUMAR_SOURCE_DIR) / "daemon/assets/scenes" / scene);
+        EXPECT_GE(c.objects.size(), 3u);
+        EXPECT_EQ(c.phantoms.size(), 1u);
+    }
+}
+
+} // namespace
+} // namespace lumar
