@@ -29,7 +29,7 @@ struct IblSettings {
 
 struct IblMaps {
     GlTexture mirror;       // RGBA16F cube, mipmapped
-    GlTexture coefficients; // RGBA32F 1 x 9: the SH9 of the mirror map (rgb)
+    GlTexture coefficients; // RGBA32F (or 16F) 1 x 9: the SH9 of the mirror map (rgb)
     GlTexture diffuse;      // RGBA16F cubes
     GlTexture glossy1;
     GlTexture glossy2;

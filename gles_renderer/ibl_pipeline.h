@@ -16,8 +16,8 @@ namespace lumar {
 
 class IblPipeline {
 public:
-    // Needs a current GLES 3 context that can render to RGBA16F and RGBA32F
-    // (EXT_color_buffer_float); throws RuntimeError naming what is missing.
+    // Needs a current GLES 3 context that can render to RGBA16F (EXT_color_buffer_float or
+    // EXT_color_buffer_half_float); throws RuntimeError naming what is missing.
     explicit IblPipeline(const IblSettings& settings = {});
 
     [[nodiscard]] const IblSettings& settings() const { return settings_; }
@@ -41,6 +41,10 @@ public:
 
     // SH projection, diffuse and glossy maps from maps.mirror.
     void updateDerivedMaps(IblMaps& maps) const;
+    // The same SH projection (same samples, same sums) of an equirectangular map instead of
+    // the cube, into maps.coefficients: the uniform-sample method is format-independent.
+    void projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps& maps) const;
+
     // The two halves of updateDerivedMaps, for per-stage timing.
     void projectSH(IblMaps& maps) const;
     void prefilter(IblMaps& maps) const;
@@ -52,10 +56,15 @@ private:
     };
     Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
     void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+    // Pass 1 with `program` (its source bound to kSourceUnit), then pass 2 into `coefficients`.
+    void sumSamples(GLuint program, GLuint sampler, GLuint coefficients) const;
 
     IblSettings settings_;
+    GLenum sumFormat_ = GL_RGBA32F; // partial sums and coefficients
     GlProgram skybox_;
     GlProgram shProject_;
+    GlProgram shProjectEquirect_;
+    GLint equirectLod_ = -1;
     GlProgram shReduce_;
     GlProgram diffuseFromSH_;
     GlProgram phongPrefilter_;
@@ -68,6 +77,7 @@ private:
     Prefilter glossy1_;
     Prefilter glossy2_;
     GlSampler nearestLevel_;
+    GlSampler nearestLevelWrapped_;
     GlFramebuffer faceFramebuffer_;  // with depth, for mirror faces
     GlFramebuffer plainFramebuffer_; // colour only, for derived maps
     GlFramebuffer readFramebuffer_;  // the source of copyFace

@@ -89,7 +89,8 @@ void main()
     t = hasTangent ? normalize(t) : normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
     float handedness = (vTangent.w < 0.0 ? -1.0 : 1.0) * frameParams.x;
     vec3 b = cross(n, t) * handedness;
-    if (hasTangent) {
+    // Uniform branches: llvmpipe skips what no fragment of the material needs.
+    if (hasTangent && emissiveNormalScale.w != 0.0) {
         vec3 tangentNormal = texture(uNormal, vUv).xyz * 2.0 - 1.0;
         tangentNormal.xy *= emissiveNormalScale.w;
         n = normalize(mat3(t, b, n) * tangentNormal);
@@ -135,8 +136,9 @@ void main()
     vec3 diffuse = rhoD * textureLod(uDiffuseMap, environmentFromCamera * n, 0.0).rgb;
     vec3 specular = shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
-    vec3 emissive = emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
-    vec3 radiance = diffuse + specular + emissive;
+    vec3 radiance = diffuse + specular;
+    if (any(greaterThan(emissiveNormalScale.rgb, vec3(0.0))))
+        radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
 
     fragColor = frameParams.y > 0.5 ? vec4(radiance, 1.0) : vec4(encodeSrgb(toneMapAces(radiance)), 1.0);
 }
