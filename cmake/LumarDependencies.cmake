@@ -12,6 +12,8 @@ pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)
 pkg_check_modules(APRILTAG REQUIRED IMPORTED_TARGET apriltag)
 pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+# MJPEG cameras (decode) and the virtual camera's MJPEG output (encode); Debian 12 has 2.1.5.
+pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET libturbojpeg)
 
 # Debian ships OpenCV's CMake package only with the all-modules libopencv-dev (which drags
 # in VTK, Qt and more); we need four modules, so find them one by one.

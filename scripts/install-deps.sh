@@ -10,6 +10,7 @@ packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
   libapriltag-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libturbojpeg0-dev v4l-utils
   libtomlplusplus-dev
   libsystemd-dev
   libgtest-dev googletest

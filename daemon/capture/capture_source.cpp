@@ -3,6 +3,7 @@
 #include "capture/fake_camera.h"
 #include "capture/image_folder_source.h"
 #include "capture/reconnecting_source.h"
+#include "capture/v4l2/v4l2_format.h"
 #include "capture/v4l2/v4l2_source.h"
 #include "capture/y4m_source.h"
 #include "core/error.h"
@@ -28,6 +29,10 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
         options.fps = config.fps;
         options.bufferCount = config.buffers;
         options.frameTimeoutMs = config.timeoutMs;
+        options.pixelFormat = pixelFormatFromName(config.format);
+        options.controls = config.controls;
+        // The pipeline sizes its renderer and intrinsics once; a resolution change reopens.
+        options.followResolutionChanges = false;
         // A camera can be unplugged or hang; it is reopened in place when it comes back.
         return std::make_unique<ReconnectingSource>([options] { return std::make_unique<V4l2Source>(options); },
                                                     options.device);

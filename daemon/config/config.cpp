@@ -48,6 +48,49 @@ void checkEven(TableReader& r, std::string_view key, int value)
         r.fail(r.node(key), key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
 }
 
+// A key that holds either the string "auto" (stored as CameraControlsConfig::kAuto) or an
+// integer within [min, max].
+void autoOrInteger(TableReader& r, std::string_view key, std::optional<int>& out, long long min, long long max)
+{
+    const toml::node* node = r.node(key);
+    if (node == nullptr)
+        return;
+    if (node->is_string()) {
+        std::string text;
+        r.oneOf(key, text, {"auto"});
+        out = CameraControlsConfig::kAuto;
+        return;
+    }
+    int value = 0;
+    if (!node->is_integer())
+        r.fail(node, key, "expected \"auto\" or an integer");
+    r.integer(key, value, min, max);
+    out = value;
+}
+
+void readCameraControls(TableReader& camera, CameraControlsConfig& controls)
+{
+    const toml::table* table = camera.table("controls");
+    if (!table)
+        return;
+    TableReader r(*table, camera.keyName("controls"), camera.fileName());
+    autoOrInteger(r, "exposure_us", controls.exposureUs, 1, 10'000'000);
+    if (r.has("gain")) {
+        int gain = 0;
+        r.integer("gain", gain, 0, 1'000'000);
+        controls.gain = gain;
+    }
+    autoOrInteger(r, "white_balance_k", controls.whiteBalanceK, 1000, 20000);
+    if (r.has("power_line_hz")) {
+        int hz = 0;
+        r.integer("power_line_hz", hz, 0, 60);
+        if (hz != 0 && hz != 50 && hz != 60)
+            r.fail(r.node("power_line_hz"), "power_line_hz", std::to_string(hz) + " must be 0 (off), 50 or 60");
+        controls.powerLineHz = hz;
+    }
+    r.finish();
+}
+
 void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
 {
     const toml::table* table = root.table("camera");
@@ -60,6 +103,8 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
         r.fail(r.node("device"), "device", "must not be empty");
     r.integer("timeout_ms", camera.timeoutMs, 50, 60000);
     r.integer("buffers", camera.buffers, 2, 32);
+    r.oneOf("format", camera.format, {"auto", "nv12", "yuyv", "mjpeg", "grey"});
+    readCameraControls(r, camera.controls);
     r.integer("width", camera.width, 16, 8192);
     checkEven(r, "width", camera.width);
     r.integer("height", camera.height, 16, 8192);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,12 +21,26 @@ struct FakeTagConfig {
     glm::dvec2 position{0.0}; // centre on the fake table-top, metres
 };
 
+// [camera.controls]: V4L2 camera controls applied after the device opens. A key left out
+// leaves the device's own setting alone.
+struct CameraControlsConfig {
+    static constexpr int kAuto = -1;  // "auto" in the file
+    std::optional<int> exposureUs;    // microseconds, or kAuto (automatic exposure)
+    std::optional<int> gain;          // the device's own gain units
+    std::optional<int> whiteBalanceK; // kelvin, or kAuto (automatic white balance)
+    std::optional<int> powerLineHz;   // anti-flicker filter: 0 (off), 50 or 60
+
+    [[nodiscard]] bool empty() const { return !exposureUs && !gain && !whiteBalanceK && !powerLineHz; }
+};
+
 struct CameraConfig {
     std::string source = "fake";        // "fake" | "y4m" | "images" | "v4l2"
     std::filesystem::path path;         // y4m file or image folder (source y4m/images)
     std::string device = "/dev/video0"; // source v4l2: the video device node
     int timeoutMs = 2000;               // source v4l2: no frame for this long is an error
     int buffers = 4;                    // source v4l2: MMAP buffers requested
+    std::string format = "auto";        // source v4l2: "auto" (NV12 > YUYV > MJPEG > GREY) or one of them
+    CameraControlsConfig controls;      // source v4l2
     int width = 1280;                   // fake: the size; v4l2: the size requested; files: their own
     int height = 720;
     double fps = 30.0;

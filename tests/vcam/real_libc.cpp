@@ -116,4 +116,40 @@ int select(int count, fd_set* readSet, fd_set* writeSet, fd_set* exceptSet, time
     return function ? function(count, readSet, writeSet, exceptSet, timeout) : -1;
 }
 
+int stat(const char* path, struct stat* out)
+{
+    static auto* const function = next<int(const char*, struct stat*)>("stat");
+    if (function == nullptr) {
+        errno = ENOSYS;
+    }
+    return function ? function(path, out) : -1;
+}
+
+int stat64(const char* path, struct stat64* out)
+{
+    static auto* const function = next<int(const char*, struct stat64*)>("stat64");
+    if (function == nullptr) {
+        errno = ENOSYS;
+    }
+    return function ? function(path, out) : -1;
+}
+
+FILE* fopen(const char* path, const char* mode)
+{
+    static auto* const function = next<FILE*(const char*, const char*)>("fopen");
+    if (function == nullptr) {
+        errno = ENOSYS;
+    }
+    return function ? function(path, mode) : nullptr;
+}
+
+FILE* fopen64(const char* path, const char* mode)
+{
+    static auto* const function = next<FILE*(const char*, const char*)>("fopen64");
+    if (function == nullptr) {
+        errno = ENOSYS;
+    }
+    return function ? function(path, mode) : nullptr;
+}
+
 } // namespace lumar::vcam::real

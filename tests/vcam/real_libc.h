@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdio>
 
 #include <poll.h>
 #include <sys/select.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 
 namespace lumar::vcam::real {
@@ -22,5 +24,9 @@ void* mmap64(void* address, size_t length, int protection, int flags, int fd, of
 int munmap(void* address, size_t length);
 int poll(pollfd* fds, nfds_t count, int timeoutMs);
 int select(int count, fd_set* readSet, fd_set* writeSet, fd_set* exceptSet, timeval* timeout);
+int stat(const char* path, struct stat* out);
+int stat64(const char* path, struct stat64* out);
+FILE* fopen(const char* path, const char* mode);
+FILE* fopen64(const char* path, const char* mode);
 
 } // namespace lumar::vcam::real

@@ -111,4 +111,23 @@ void drawPattern(const PatternFormat& format, int64_t frameIndex, uint8_t* out)
     }
 }
 
+void drawPatternRgb(int width, int height, int64_t frameIndex, uint8_t* rgb)
+{
+    const int left = blockLeft(frameIndex, width);
+    const int bandTop = blockBandTop(height);
+    for (int y = 0; y < height; ++y) {
+        uint8_t* out = rgb + size_t(y) * size_t(width) * 3;
+        for (int x = 0; x < width; ++x, out += 3) {
+            Rgb colour = colourBars()[size_t(x * 8 / width)];
+            if (y >= bandTop) {
+                const uint8_t v = (x >= left && x < left + kBlockWidth) ? 255 : 0;
+                colour = {v, v, v};
+            }
+            out[0] = colour.r;
+            out[1] = colour.g;
+            out[2] = colour.b;
+        }
+    }
+}
+
 } // namespace lumar::vcam

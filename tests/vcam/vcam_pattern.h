@@ -32,7 +32,12 @@ struct PatternFormat {
     bool fullRange = false;
 };
 
-// Writes frame `frameIndex` into `out`, which holds the format's full image size.
+// Writes frame `frameIndex` into `out`, which holds the format's full image size (YUYV, NV12
+// or GREY).
 void drawPattern(const PatternFormat& format, int64_t frameIndex, uint8_t* out);
+
+// The same picture as 8-bit RGB, 3 bytes a pixel, rows packed (what the MJPEG encoder takes).
+// It depends on the frame only through blockLeft(frameIndex, width).
+void drawPatternRgb(int width, int height, int64_t frameIndex, uint8_t* rgb);
 
 } // namespace lumar::vcam

@@ -1,7 +1,8 @@
-// The LD_PRELOAD entry points: open/openat of the configured path create a VirtualDevice
-// behind a real file descriptor (an eventfd, so close/dup/fcntl behave); ioctl, mmap, poll
+// The LD_PRELOAD entry points: open/openat of the configured path open a file handle on the
+// path's VirtualDevice (created by the first open, shared by later ones, gone with the last
+// close) behind a real file descriptor (an eventfd, so close/fcntl behave); ioctl, mmap, poll
 // and select on that descriptor go to the device, everything else to the C library.
-// munmap needs no interposer: a buffer mapping is a plain mapping of the device's memfd.
+// munmap needs no interposer: a buffer mapping is a plain mapping of the buffer's memfd.
 #include <algorithm>
 #include <cerrno>
 #include <cstdarg>
@@ -21,47 +22,17 @@
 #include <time.h>
 
 #include "vcam/real_libc.h"
+#include "vcam/vcam_registry.h"
 #include "vcam/virtual_device.h"
 
 namespace lumar::vcam {
 namespace {
-
-constexpr int64_t kForever = std::numeric_limits<int64_t>::max();
-
-struct Registry {
-    std::mutex mutex;
-    std::map<int, std::unique_ptr<VirtualDevice>> devices;
-};
-
-// Never destroyed: interposers may run from other libraries' static destructors at exit.
-Registry& registry()
-{
-    static auto* instance = new Registry;
-    return *instance;
-}
-
-int64_t nowNs()
-{
-    timespec now{};
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
-}
 
 void sleepUntil(int64_t deadlineNs)
 {
     timespec until{time_t(deadlineNs / 1'000'000'000), long(deadlineNs % 1'000'000'000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr) == EINTR) {
     }
-}
-
-// Milliseconds from now until `deadlineNs`, rounded up so a wake-up is never early.
-int waitMsUntil(int64_t deadlineNs)
-{
-    if (deadlineNs == kForever) {
-        return -1;
-    }
-    const int64_t ms = (deadlineNs - nowNs() + 999'999) / 1'000'000;
-    return int(std::clamp<int64_t>(ms, 0, std::numeric_limits<int>::max()));
 }
 
 bool isServedPath(const char* path, Settings& settings)
@@ -75,13 +46,19 @@ bool isServedPath(const char* path, Settings& settings)
 
 int openDevice(Settings settings, int flags)
 {
-    const int fd = eventfd(0, (flags & O_CLOEXEC) ? EFD_CLOEXEC : 0);
+    const int fd = eventfd(0, ((flags & O_CLOEXEC) ? EFD_CLOEXEC : 0) | ((flags & O_NONBLOCK) ? EFD_NONBLOCK : 0));
     if (fd < 0) {
         return -1;
     }
     Registry& r = registry();
     const std::lock_guard lock(r.mutex);
-    r.devices[fd] = std::make_unique<VirtualDevice>(std::move(settings), (flags & O_NONBLOCK) != 0);
+    std::shared_ptr<VirtualDevice> device = r.byPath[settings.devicePath].lock();
+    if (!device) {
+        const std::string path = settings.devicePath;
+        device = std::make_shared<VirtualDevice>(std::move(settings));
+        r.byPath[path] = device;
+    }
+    r.open[fd] = OpenDevice{device, device->openHandle()};
     return fd;
 }
 
@@ -90,21 +67,30 @@ mode_t modeArgument(int flags, va_list arguments)
     return (flags & (O_CREAT | O_TMPFILE)) ? mode_t(va_arg(arguments, unsigned)) : mode_t(0);
 }
 
+// Blocking or not is the descriptor's current state (fcntl may change it after open).
+bool nonBlocking(int fd)
+{
+    const int flags = fcntl(fd, F_GETFL);
+    return flags >= 0 && (flags & O_NONBLOCK) != 0;
+}
+
 int deviceIoctl(int fd, unsigned long request, void* arg, bool& served)
 {
     Registry& r = registry();
     std::unique_lock lock(r.mutex);
     for (;;) {
-        const auto found = r.devices.find(fd);
-        if (found == r.devices.end()) {
+        const auto found = r.open.find(fd);
+        if (found == r.open.end()) {
             served = false;
             return 0;
         }
         served = true;
-        VirtualDevice& device = *found->second;
-        const int error = device.ioctl(request, arg, nowNs());
+        const OpenDevice open = found->second;
+        VirtualDevice& device = *open.device;
+        const int error = device.ioctl(open.handle, request, arg, nowNs());
         // A blocking descriptor's DQBUF waits for the next frame, as a driver's does.
-        if (error == EAGAIN && request == VIDIOC_DQBUF && !device.nonBlocking() && device.streaming()) {
+        if (error == EAGAIN && request == VIDIOC_DQBUF && !nonBlocking(fd) && device.streaming() &&
+            device.nextFrameDueNs() != kForever) {
             const int64_t due = device.nextFrameDueNs();
             lock.unlock();
             sleepUntil(due);
@@ -134,16 +120,17 @@ int pollWithDevices(pollfd* fds, nfds_t count, int timeoutMs)
             Registry& r = registry();
             const std::lock_guard lock(r.mutex);
             for (nfds_t i = 0; i < count; ++i) {
-                const auto found = r.devices.find(fds[i].fd);
-                if (found == r.devices.end()) {
+                const auto found = r.open.find(fds[i].fd);
+                if (found == r.open.end()) {
                     continue;
                 }
                 anyDevice = true;
                 others[i].fd = -1;
-                const short events = found->second->pollEvents(nowNs());
+                VirtualDevice& device = *found->second.device;
+                const short events = device.pollEvents(found->second.handle, fds[i].events, nowNs());
                 fds[i].revents = short(events & (fds[i].events | POLLERR | POLLHUP | POLLNVAL));
                 ready += fds[i].revents != 0 ? 1 : 0;
-                nextDue = std::min(nextDue, found->second->nextFrameDueNs());
+                nextDue = std::min(nextDue, device.nextFrameDueNs());
             }
         }
         if (!anyDevice) {
@@ -185,15 +172,18 @@ int selectWithDevices(int count, fd_set* readSet, fd_set* writeSet, fd_set* exce
         {
             Registry& r = registry();
             const std::lock_guard lock(r.mutex);
-            for (const auto& [fd, device] : r.devices) {
-                if (fd >= count || !(FD_ISSET(fd, &readAsked) || FD_ISSET(fd, &exceptAsked))) {
+            for (const auto& [fd, open] : r.open) {
+                if (fd >= count ||
+                    !(FD_ISSET(fd, &readAsked) || FD_ISSET(fd, &exceptAsked) || FD_ISSET(fd, &writeAsked))) {
                     continue;
                 }
                 anyDevice = true;
                 FD_CLR(fd, &readOthers);
                 FD_CLR(fd, &writeOthers);
                 FD_CLR(fd, &exceptOthers);
-                const short events = device->pollEvents(nowNs());
+                VirtualDevice* device = open.device.get();
+                const short requested = FD_ISSET(fd, &readAsked) ? short(POLLIN | POLLPRI) : short(POLLPRI);
+                const short events = device->pollEvents(open.handle, requested, nowNs());
                 if (FD_ISSET(fd, &readAsked) && (events & (POLLIN | POLLERR))) {
                     readableDevices.push_back(fd);
                 }
@@ -239,7 +229,7 @@ bool anyDeviceOpen()
 {
     Registry& r = registry();
     const std::lock_guard lock(r.mutex);
-    return !r.devices.empty();
+    return !r.open.empty();
 }
 
 } // namespace
@@ -297,12 +287,45 @@ __attribute__((visibility("default"))) int openat64(int directory, const char* p
     return real::openat64(directory, path, flags, mode);
 }
 
+// The fortified entry points (_FORTIFY_SOURCE with non-constant flags, as in v4l-utils).
+__attribute__((visibility("default"))) int __open_2(const char* path, int flags)
+{
+    if (Settings settings; isServedPath(path, settings)) {
+        return openDevice(std::move(settings), flags);
+    }
+    return real::open(path, flags, 0);
+}
+
+__attribute__((visibility("default"))) int __open64_2(const char* path, int flags)
+{
+    if (Settings settings; isServedPath(path, settings)) {
+        return openDevice(std::move(settings), flags);
+    }
+    return real::open64(path, flags, 0);
+}
+
+__attribute__((visibility("default"))) int __openat_2(int directory, const char* path, int flags)
+{
+    if (Settings settings; isServedPath(path, settings)) {
+        return openDevice(std::move(settings), flags);
+    }
+    return real::openat(directory, path, flags, 0);
+}
+
 __attribute__((visibility("default"))) int close(int fd)
 {
     {
         Registry& r = registry();
         const std::lock_guard lock(r.mutex);
-        r.devices.erase(fd); // unmaps and closes the device's memfd; client mappings stay valid
+        if (const auto found = r.open.find(fd); found != r.open.end()) {
+            // The last handle's close destroys the device (its memfds; client mappings stay valid).
+            found->second.device->closeHandle(found->second.handle);
+            r.open.erase(found);
+            for (auto& [epoll, watches] : r.epollWatches) {
+                watches.erase(fd);
+            }
+        }
+        r.epollWatches.erase(fd); // when fd was an epoll instance
     }
     return real::close(fd);
 }
@@ -324,14 +347,14 @@ __attribute__((visibility("default"))) void* mmap(void* address, size_t length, 
     {
         Registry& r = registry();
         const std::lock_guard lock(r.mutex);
-        if (const auto found = r.devices.find(fd); found != r.devices.end()) {
+        if (const auto found = r.open.find(fd); found != r.open.end()) {
             int error = 0;
-            const int memfd = found->second->memfdForMapping(length, offset, error);
+            const int memfd = found->second.device->memfdForMapping(length, offset, error);
             if (memfd < 0) {
                 errno = error;
                 return MAP_FAILED;
             }
-            return real::mmap(address, length, protection, flags, memfd, offset);
+            return real::mmap(address, length, protection, flags, memfd, 0); // each buffer has its own memfd
         }
     }
     return real::mmap(address, length, protection, flags, fd, offset);

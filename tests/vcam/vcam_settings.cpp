@@ -1,5 +1,6 @@
 #include "vcam/vcam_settings.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <string_view>
@@ -23,6 +24,25 @@ void readInteger(const char* name, int64_t& value)
     }
 }
 
+// "WxH" with even sides in [16, 4096]; anything else leaves the size as it was.
+void readSize(std::string_view text, uint32_t& width, uint32_t& height)
+{
+    const size_t x = text.find('x');
+    if (x == std::string_view::npos) {
+        return;
+    }
+    uint32_t w = 0;
+    uint32_t h = 0;
+    const auto [wEnd, wError] = std::from_chars(text.data(), text.data() + x, w);
+    const auto [hEnd, hError] = std::from_chars(text.data() + x + 1, text.data() + text.size(), h);
+    const auto valid = [](uint32_t v) { return v >= 16 && v <= 4096 && v % 2 == 0; };
+    if (wError == std::errc() && hError == std::errc() && wEnd == text.data() + x &&
+        hEnd == text.data() + text.size() && valid(w) && valid(h)) {
+        width = w;
+        height = h;
+    }
+}
+
 // "YUYV,GREY" → the fourccs this device knows, in the order given.
 std::vector<uint32_t> readFormats(const char* text)
 {
@@ -31,7 +51,7 @@ std::vector<uint32_t> readFormats(const char* text)
     while (!rest.empty()) {
         const size_t comma = rest.find(',');
         const std::string_view name = rest.substr(0, comma);
-        for (uint32_t known : {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_GREY}) {
+        for (uint32_t known : {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_MJPEG, V4L2_PIX_FMT_GREY}) {
             const char code[4] = {char(known & 0xff), char((known >> 8) & 0xff), char((known >> 16) & 0xff),
                                   char(known >> 24)};
             if (name == std::string_view(code, 4)) {
@@ -61,13 +81,20 @@ Settings settingsFromEnvironment()
         settings.pixelFormats = readFormats(formats);
     }
     if (settings.pixelFormats.empty()) {
-        settings.pixelFormats = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_GREY};
+        settings.pixelFormats = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_MJPEG, V4L2_PIX_FMT_GREY};
     }
     readInteger("LUMAR_VCAM_FAULT_UNPLUG_AT", settings.unplugAt);
     readInteger("LUMAR_VCAM_FAULT_STALL_AT", settings.stallAt);
     readInteger("LUMAR_VCAM_FAULT_STALL_MS", settings.stallMs);
     readInteger("LUMAR_VCAM_FAULT_DROP_EVERY", settings.dropEvery);
     readInteger("LUMAR_VCAM_FAULT_SHORT_EVERY", settings.shortEvery);
+    readInteger("LUMAR_VCAM_FAULT_CORRUPT_EVERY", settings.corruptEvery);
+    readInteger("LUMAR_VCAM_JPEG_QUALITY", settings.jpegQuality);
+    settings.jpegQuality = std::clamp<int64_t>(settings.jpegQuality, 1, 100);
+    readInteger("LUMAR_VCAM_SOURCE_CHANGE_AT", settings.sourceChangeAt);
+    if (const char* size = std::getenv("LUMAR_VCAM_SOURCE_CHANGE_SIZE"); size != nullptr) {
+        readSize(size, settings.sourceChangeWidth, settings.sourceChangeHeight);
+    }
     return settings;
 }
 

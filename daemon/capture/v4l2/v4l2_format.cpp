@@ -5,17 +5,37 @@
 #include <cstdlib>
 
 #include "capture/v4l2/v4l2_ioctl.h"
+#include "core/error.h"
 
 namespace lumar {
 
 const std::vector<uint32_t>& supportedPixelFormats()
 {
-    static const std::vector<uint32_t> formats{V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_GREY};
+    static const std::vector<uint32_t> formats{V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_MJPEG,
+                                               V4L2_PIX_FMT_GREY};
     return formats;
 }
 
-uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats)
+uint32_t pixelFormatFromName(const std::string& name)
 {
+    if (name == "auto")
+        return 0;
+    if (name == "nv12")
+        return V4L2_PIX_FMT_NV12;
+    if (name == "yuyv")
+        return V4L2_PIX_FMT_YUYV;
+    if (name == "mjpeg")
+        return V4L2_PIX_FMT_MJPEG;
+    if (name == "grey")
+        return V4L2_PIX_FMT_GREY;
+    throw InputError("camera.format: unknown format '" + name + "' (expected auto, nv12, yuyv, mjpeg or grey)");
+}
+
+uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats, uint32_t required)
+{
+    if (required != 0) {
+        return std::find(deviceFormats.begin(), deviceFormats.end(), required) != deviceFormats.end() ? required : 0;
+    }
     for (uint32_t preferred : supportedPixelFormats()) {
         if (std::find(deviceFormats.begin(), deviceFormats.end(), preferred) != deviceFormats.end()) {
             return preferred;

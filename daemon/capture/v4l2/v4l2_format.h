@@ -12,11 +12,17 @@
 
 namespace lumar {
 
-// The pixel formats lumar converts, best first: NV12 and YUYV carry colour, GREY luma only.
+// The pixel formats lumar converts, best first: NV12 and YUYV carry colour uncompressed, MJPEG
+// costs a JPEG decode per frame (but is what UVC cameras send at high rates), GREY is luma only.
 const std::vector<uint32_t>& supportedPixelFormats();
 
 // The preferred format among the device's, or 0 when the device offers none lumar converts.
-uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats);
+// A non-zero `required` format is chosen when offered (0 otherwise): the config named it.
+uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats, uint32_t required = 0);
+
+// The fourcc a config's camera.format names ("nv12", "yuyv", "mjpeg", "grey"), 0 for "auto".
+// Throws InputError for any other name.
+uint32_t pixelFormatFromName(const std::string& name);
 
 struct FrameSize {
     uint32_t width = 0;

@@ -11,7 +11,7 @@ namespace lumar {
 
 struct V4l2FormatInfo {
     std::string fourcc;
-    bool convertible = false; // lumar can capture it (NV12, YUYV, GREY)
+    bool convertible = false; // lumar can capture it (NV12, YUYV, MJPEG, GREY)
     std::vector<FrameSize> sizes;
 };
 

@@ -13,6 +13,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
+#include "capture/v4l2/v4l2_controls.h"
 #include "capture/v4l2/v4l2_format.h"
 #include "capture/v4l2/v4l2_ioctl.h"
 #include "core/error.h"
@@ -22,6 +23,9 @@ namespace lumar {
 namespace {
 
 constexpr int kMinimumBuffers = 4;
+// Corrupt frames are logged on the first and then every this many, so a camera that sends
+// garbage all the time cannot flood the journal.
+constexpr uint64_t kCorruptLogEvery = 100;
 
 int64_t monotonicNowNs()
 {
@@ -61,7 +65,11 @@ V4l2Source::V4l2Source(V4l2Options options) : options_(std::move(options))
 
     negotiateFormat();
     requestFrameRate();
+    if (!options_.controls.empty()) {
+        applyCameraControls(device, fd_.get(), options_.controls);
+    }
     mapBuffers();
+    subscribeToSourceChanges();
     startStreaming();
 }
 
@@ -78,14 +86,17 @@ void V4l2Source::negotiateFormat()
 {
     const std::string& device = options_.device;
     const std::vector<uint32_t> formats = enumeratePixelFormats(device, fd_.get());
-    pixelFormat_ = choosePixelFormat(formats);
+    pixelFormat_ = choosePixelFormat(formats, options_.pixelFormat);
     if (pixelFormat_ == 0) {
         std::string offered;
         for (uint32_t f : formats) {
             offered += (offered.empty() ? "" : ", ") + fourccName(f);
         }
-        throw RuntimeError(device + ": no supported pixel format (offers " + (offered.empty() ? "none" : offered) +
-                           "; lumar converts NV12, YUYV, GREY)");
+        throw RuntimeError(
+            device + ": " +
+            (options_.pixelFormat != 0 ? "camera.format " + fourccName(options_.pixelFormat) + " is not offered"
+                                       : std::string("no supported pixel format")) +
+            " (offers " + (offered.empty() ? "none" : offered) + "; lumar converts NV12, YUYV, MJPEG, GREY)");
     }
     const FrameSize requested{uint32_t(std::max(options_.width, 1)), uint32_t(std::max(options_.height, 1))};
     const FrameSize size = chooseFrameSize(enumerateFrameSizes(device, fd_.get(), pixelFormat_, requested), requested);
@@ -102,11 +113,14 @@ void V4l2Source::negotiateFormat()
         throw RuntimeError(device + ": the driver replaced " + fourccName(pixelFormat_) + " by " +
                            fourccName(accepted.pixelformat));
     }
-    const bool subsampled = pixelFormat_ != V4L2_PIX_FMT_GREY;
+    const bool compressed = pixelFormat_ == V4L2_PIX_FMT_MJPEG;
+    const bool subsampled = pixelFormat_ != V4L2_PIX_FMT_GREY && !compressed;
     const bool verticallySubsampled = pixelFormat_ == V4L2_PIX_FMT_NV12;
     const size_t bytesPerPixel = pixelFormat_ == V4L2_PIX_FMT_YUYV ? 2 : 1;
     if (accepted.width == 0 || accepted.height == 0 || (subsampled && accepted.width % 2 != 0) ||
-        (verticallySubsampled && accepted.height % 2 != 0) || accepted.bytesperline < accepted.width * bytesPerPixel) {
+        (verticallySubsampled && accepted.height % 2 != 0) ||
+        (!compressed && accepted.bytesperline < accepted.width * bytesPerPixel) ||
+        (compressed && accepted.sizeimage == 0)) {
         throw RuntimeError(device + ": the driver returned an unusable format (" + std::to_string(accepted.width) +
                            "x" + std::to_string(accepted.height) + ", " + std::to_string(accepted.bytesperline) +
                            " bytes per line)");
@@ -115,12 +129,21 @@ void V4l2Source::negotiateFormat()
     height_ = int(accepted.height);
     bytesPerLine_ = accepted.bytesperline;
     const size_t planeSize = bytesPerLine_ * size_t(height_);
-    imageSize_ = verticallySubsampled ? planeSize + planeSize / 2 : planeSize;
+    imageSize_ = compressed ? 0 : verticallySubsampled ? planeSize + planeSize / 2 : planeSize;
+    if (compressed && !mjpeg_) {
+        mjpeg_ = std::make_unique<MjpegDecoder>();
+    }
     if (accepted.sizeimage < imageSize_) {
         throw RuntimeError(device + ": the driver's image size " + std::to_string(accepted.sizeimage) +
                            " is smaller than the format needs (" + std::to_string(imageSize_) + ")");
     }
     converter_ = YCbCrConverter(colorimetryOf(accepted));
+    if (compressed) {
+        // JFIF: BT.601 full range whatever the driver says; libturbojpeg decodes it so.
+        LUMAR_LOG(Capture, Info) << device << ": MJPEG " << width_ << "x" << height_ << " (up to " << accepted.sizeimage
+                                 << " bytes a frame)";
+        return;
+    }
     LUMAR_LOG(Capture, Info) << device << ": " << fourccName(pixelFormat_) << " " << width_ << "x" << height_
                              << (converter_.colorimetry().matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601")
                              << (converter_.colorimetry().fullRange ? " full range" : " limited range");
@@ -193,6 +216,66 @@ void V4l2Source::startStreaming()
     streaming_ = true;
 }
 
+void V4l2Source::subscribeToSourceChanges()
+{
+    v4l2_event_subscription subscription{};
+    subscription.type = V4L2_EVENT_SOURCE_CHANGE;
+    subscription.id = 0; // the input
+    // Most cameras have no source-change events (ENOTTY/EINVAL): nothing to watch then.
+    subscribedToSourceChanges_ = v4l2Ioctl(fd_.get(), VIDIOC_SUBSCRIBE_EVENT, &subscription) == 0;
+}
+
+void V4l2Source::handleEvents()
+{
+    bool resolutionChanged = false;
+    for (;;) {
+        v4l2_event event{};
+        const int error = v4l2Ioctl(fd_.get(), VIDIOC_DQEVENT, &event);
+        if (error == ENOENT) {
+            break; // no more pending
+        }
+        if (error != 0) {
+            throwDeviceError(options_.device, "VIDIOC_DQEVENT", error);
+        }
+        if (event.type == V4L2_EVENT_SOURCE_CHANGE && (event.u.src_change.changes & V4L2_EVENT_SRC_CH_RESOLUTION)) {
+            resolutionChanged = true;
+        }
+    }
+    if (resolutionChanged) {
+        restartAfterSourceChange();
+    }
+}
+
+void V4l2Source::restartAfterSourceChange()
+{
+    const std::string& device = options_.device;
+    const int oldWidth = width_;
+    const int oldHeight = height_;
+    int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_STREAMOFF, &type, "VIDIOC_STREAMOFF");
+    streaming_ = false;
+    buffers_.clear(); // unmapped before the buffers are freed
+    v4l2_requestbuffers release{};
+    release.count = 0;
+    release.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    release.memory = V4L2_MEMORY_MMAP;
+    v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_REQBUFS, &release, "VIDIOC_REQBUFS (release)");
+    // The requested size again: the device now offers the new input's size.
+    negotiateFormat();
+    const std::string change = std::to_string(oldWidth) + "x" + std::to_string(oldHeight) + " to " +
+                               std::to_string(width_) + "x" + std::to_string(height_);
+    if (!options_.followResolutionChanges && (width_ != oldWidth || height_ != oldHeight)) {
+        throw RuntimeError(device + ": the source changed resolution from " + change +
+                           "; the capture size is fixed at start, so the camera is reopened");
+    }
+    requestFrameRate();
+    mapBuffers();
+    startStreaming();
+    lastSequence_.reset(); // the driver numbers the new stream from 0
+    ++sourceChanges_;
+    LUMAR_LOG(Capture, Info) << device << ": source changed from " << change << "; streaming again";
+}
+
 void V4l2Source::queueBuffer(uint32_t index)
 {
     v4l2_buffer buffer{};
@@ -202,11 +285,18 @@ void V4l2Source::queueBuffer(uint32_t index)
     v4l2IoctlOrThrow(options_.device, fd_.get(), VIDIOC_QBUF, &buffer, "VIDIOC_QBUF");
 }
 
-bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer)
+bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer, int64_t deadline)
 {
     const std::string& device = options_.device;
-    const int64_t deadline = monotonicNowNs() + int64_t(options_.frameTimeoutMs) * 1'000'000;
     for (;;) {
+        // With source-change events subscribed, look for one before each dequeue: a driver
+        // may keep delivering frames of the old size after announcing the change.
+        if (subscribedToSourceChanges_) {
+            pollfd check{fd_.get(), POLLPRI, 0};
+            if (::poll(&check, 1, 0) > 0 && (check.revents & POLLPRI)) {
+                handleEvents();
+            }
+        }
         buffer = v4l2_buffer{};
         buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
         buffer.memory = V4L2_MEMORY_MMAP;
@@ -219,14 +309,16 @@ bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer)
         }
         const int64_t remainingMs = (deadline - monotonicNowNs() + 999'999) / 1'000'000;
         if (remainingMs <= 0) {
-            throw RuntimeError(device + ": no frame for " + secondsText(options_.frameTimeoutMs) + " s");
+            throw RuntimeError(device + ": no frame for " + secondsText(options_.frameTimeoutMs) + " s" +
+                               (framesCorrupt_ > corruptAtCallStart_ ? " (only corrupt ones)" : ""));
         }
-        pollfd waitFor{fd_.get(), POLLIN, 0};
+        pollfd waitFor{fd_.get(), short(POLLIN | (subscribedToSourceChanges_ ? POLLPRI : 0)), 0};
         const int ready = ::poll(&waitFor, 1, int(remainingMs));
         if (ready < 0 && errno != EINTR) {
             throwDeviceError(device, "poll", errno);
         }
-        // POLLERR: the next DQBUF reports the cause (ENODEV for an unplugged device).
+        // POLLPRI: an event, handled at the top; POLLERR: the next DQBUF reports the cause
+        // (ENODEV for an unplugged device).
     }
     if (buffer.index >= buffers_.size()) {
         throw RuntimeError(device + ": the driver returned buffer index " + std::to_string(buffer.index) + " of " +
@@ -239,21 +331,47 @@ bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer)
                                  << " (" << framesDropped_ << " in all)";
     }
     lastSequence_ = buffer.sequence;
-    if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < imageSize_) {
-        ++framesCorrupt_;
-        LUMAR_LOG(Capture, Warn) << device << ": frame " << buffer.sequence << " is corrupt (" << buffer.bytesused
-                                 << " of " << imageSize_ << " bytes"
-                                 << ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : "") << "); skipped";
+    const size_t length = buffers_[buffer.index].size();
+    if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < std::max<size_t>(imageSize_, 1) ||
+        buffer.bytesused > length) {
+        countCorrupt(buffer.sequence, std::to_string(buffer.bytesused) + " bytes of " +
+                                          (imageSize_ > 0 ? std::to_string(imageSize_) : "a JPEG") +
+                                          ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : ""));
         queueBuffer(buffer.index);
         return false;
     }
     return true;
 }
 
+void V4l2Source::countCorrupt(uint32_t sequence, const std::string& why)
+{
+    ++framesCorrupt_;
+    if (framesCorrupt_ == 1 || framesCorrupt_ % kCorruptLogEvery == 0) {
+        LUMAR_LOG(Capture, Warn) << options_.device << ": frame " << sequence << " is corrupt (" << why
+                                 << "); skipped (" << framesCorrupt_ << " corrupt in all, logged every "
+                                 << kCorruptLogEvery << ")";
+    }
+}
+
 bool V4l2Source::next(Frame& frame)
 {
     v4l2_buffer buffer{};
-    while (!dequeueGoodBuffer(buffer)) {
+    // One deadline for the whole call, so a camera sending nothing but corrupt frames times
+    // out like a silent one instead of keeping the caller here for ever.
+    const int64_t deadline = monotonicNowNs() + int64_t(options_.frameTimeoutMs) * 1'000'000;
+    corruptAtCallStart_ = framesCorrupt_;
+    for (;;) {
+        if (!dequeueGoodBuffer(buffer, deadline)) {
+            continue;
+        }
+        const int64_t convertStart = monotonicNowNs();
+        const bool converted = convert(buffers_[buffer.index].data(), buffer.bytesused, frame);
+        lastConversionNs_ = monotonicNowNs() - convertStart;
+        queueBuffer(buffer.index);
+        if (converted) {
+            break;
+        }
+        countCorrupt(buffer.sequence, decodeError_);
     }
     const bool monotonic = (buffer.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
     frame.sequence = buffer.sequence;
@@ -261,14 +379,14 @@ bool V4l2Source::next(Frame& frame)
     frame.timestampNs =
         monotonic ? int64_t(buffer.timestamp.tv_sec) * 1'000'000'000 + int64_t(buffer.timestamp.tv_usec) * 1000
                   : monotonicNowNs();
-    convert(buffers_[buffer.index].data(), frame);
-    queueBuffer(buffer.index);
     return true;
 }
 
-void V4l2Source::convert(const uint8_t* data, Frame& frame) const
+bool V4l2Source::convert(const uint8_t* data, size_t bytesUsed, Frame& frame)
 {
     switch (pixelFormat_) {
+    case V4L2_PIX_FMT_MJPEG:
+        return mjpeg_->decode(data, bytesUsed, width_, height_, frame.rgb, frame.luma, decodeError_);
     case V4L2_PIX_FMT_YUYV:
         converter_.convertYuyv(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
         break;
@@ -280,6 +398,7 @@ void V4l2Source::convert(const uint8_t* data, Frame& frame) const
         converter_.convertGrey(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
         break;
     }
+    return true;
 }
 
 } // namespace lumar

@@ -1,9 +1,13 @@
 // A V4L2 capture device (a USB/CSI camera's /dev/videoN) behind the CaptureSource interface:
-// single-planar MMAP streaming, NV12/YUYV/GREY converted on the CPU to sRGB plus luma.
+// single-planar MMAP streaming, NV12/YUYV/GREY converted on the CPU to sRGB plus luma, MJPEG
+// decoded with libturbojpeg. Controls from the config are applied after the open. A
+// V4L2_EVENT_SOURCE_CHANGE (the input's resolution changed) restarts the stream at the new
+// size, or, when the caller cannot take a new size, is a RuntimeError.
 // A failed device throws RuntimeError; reconnecting after an unplug is the caller's job.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +16,7 @@
 
 #include "capture/capture_source.h"
 #include "capture/v4l2/mapped_region.h"
+#include "capture/v4l2/mjpeg_decoder.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/unique_fd.h"
 
@@ -24,6 +29,12 @@ struct V4l2Options {
     double fps = 30.0;         // requested frame rate (VIDIOC_S_PARM); the driver may adjust it
     int bufferCount = 4;       // MMAP buffers requested (at least 4 are used)
     int frameTimeoutMs = 2000; // next() throws when no frame arrives for this long
+    uint32_t pixelFormat = 0;  // a fourcc the config requires; 0: the best the device offers
+    CameraControlsConfig controls;
+    // On a source change to another resolution: true, restart at the new size (width() and
+    // height() follow, frames come at the new size); false, throw RuntimeError from next()
+    // (for callers sized once at start, which reopen the camera instead).
+    bool followResolutionChanges = true;
 };
 
 class V4l2Source final : public CaptureSource {
@@ -35,7 +46,8 @@ public:
     V4l2Source(const V4l2Source&) = delete;
     V4l2Source& operator=(const V4l2Source&) = delete;
 
-    // Never returns false (a camera does not end); throws RuntimeError on timeout or unplug.
+    // Never returns false (a camera does not end); throws RuntimeError on unplug, or when no
+    // good frame (none at all, or only corrupt ones) arrives within the frame timeout.
     bool next(Frame& frame) override;
 
     [[nodiscard]] int width() const override { return width_; }
@@ -47,18 +59,31 @@ public:
     [[nodiscard]] size_t bufferCount() const { return buffers_.size(); }
     // Frames the driver numbered but never delivered (sequence gaps).
     [[nodiscard]] uint64_t framesDropped() const { return framesDropped_; }
-    // Frames delivered short (bytesused below the image size) or flagged as errors; skipped.
+    // Frames delivered short (bytesused below the image size), flagged as errors, or (MJPEG)
+    // that do not decode to the negotiated size; skipped.
     [[nodiscard]] uint64_t framesCorrupt() const { return framesCorrupt_; }
+    // Source changes handled by restarting the stream (V4L2_EVENT_SOURCE_CHANGE).
+    [[nodiscard]] int sourceChanges() const { return sourceChanges_; }
+    // How long the last delivered frame took from its dequeued buffer to RGB + luma
+    // (conversion or JPEG decode), for per-stage timings.
+    [[nodiscard]] int64_t lastConversionNs() const { return lastConversionNs_; }
 
 private:
     void negotiateFormat();
     void requestFrameRate();
     void mapBuffers();
     void startStreaming();
-    // Waits for and dequeues one buffer; returns false when it was corrupt (already requeued).
-    bool dequeueGoodBuffer(v4l2_buffer& buffer);
+    void subscribeToSourceChanges();
+    // Dequeues pending events; a resolution change restarts the stream (or throws).
+    void handleEvents();
+    void restartAfterSourceChange();
+    // Waits (until `deadlineNs` at most) for and dequeues one buffer; returns false when it was
+    // corrupt (already requeued).
+    bool dequeueGoodBuffer(v4l2_buffer& buffer, int64_t deadlineNs);
     void queueBuffer(uint32_t index);
-    void convert(const uint8_t* data, Frame& frame) const;
+    // Converts (or decodes) one buffer into the frame; false when the data is corrupt.
+    bool convert(const uint8_t* data, size_t bytesUsed, Frame& frame);
+    void countCorrupt(uint32_t sequence, const std::string& why);
 
     V4l2Options options_;
     UniqueFd fd_;
@@ -69,11 +94,17 @@ private:
     int height_ = 0;
     double fps_ = 0.0;
     size_t bytesPerLine_ = 0;
-    size_t imageSize_ = 0;
+    size_t imageSize_ = 0; // the bytes a raw frame needs; 0 for MJPEG (its size varies)
+    bool subscribedToSourceChanges_ = false;
+    int sourceChanges_ = 0;
+    int64_t lastConversionNs_ = 0;
+    std::unique_ptr<MjpegDecoder> mjpeg_; // while the format is MJPEG
+    std::string decodeError_;
     YCbCrConverter converter_{YCbCrColorimetry{}};
     std::optional<uint32_t> lastSequence_;
     uint64_t framesDropped_ = 0;
     uint64_t framesCorrupt_ = 0;
+    uint64_t corruptAtCallStart_ = 0;
 };
 
 } // namespace lumar

@@ -1,14 +1,19 @@
 // The V4L2 backend against the user-space virtual camera (tests/vcam, preloaded by ctest):
-// streaming, colorimetry, and the injected faults. Each test configures the device through
-// LUMAR_VCAM_* variables before opening it (the device reads them at open()).
+// streaming, colorimetry, MJPEG, controls, source changes and the injected faults. Each test
+// configures the device through LUMAR_VCAM_* variables before opening it (the device reads
+// them when its first handle opens).
 #include <cstdlib>
 #include <string>
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/videodev2.h>
+#include <sys/ioctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "capture/v4l2/v4l2_controls.h"
+#include "capture/v4l2/v4l2_format.h"
 #include "capture/v4l2/v4l2_source.h"
 #include "core/error.h"
 #include "vcam/vcam_pattern.h"
@@ -30,9 +35,11 @@ protected:
             std::string(std::getenv("LD_PRELOAD")).find("lumar_vcam") == std::string::npos) {
             GTEST_SKIP() << "run through ctest, which preloads liblumar_vcam.so";
         }
-        for (const char* name : {"LUMAR_VCAM_FORMATS", "LUMAR_VCAM_YCBCR_ENC", "LUMAR_VCAM_QUANTIZATION",
-                                 "LUMAR_VCAM_FAULT_UNPLUG_AT", "LUMAR_VCAM_FAULT_STALL_AT", "LUMAR_VCAM_FAULT_STALL_MS",
-                                 "LUMAR_VCAM_FAULT_DROP_EVERY", "LUMAR_VCAM_FAULT_SHORT_EVERY"}) {
+        for (const char* name :
+             {"LUMAR_VCAM_FORMATS", "LUMAR_VCAM_YCBCR_ENC", "LUMAR_VCAM_QUANTIZATION", "LUMAR_VCAM_FAULT_UNPLUG_AT",
+              "LUMAR_VCAM_FAULT_STALL_AT", "LUMAR_VCAM_FAULT_STALL_MS", "LUMAR_VCAM_FAULT_DROP_EVERY",
+              "LUMAR_VCAM_FAULT_SHORT_EVERY", "LUMAR_VCAM_FAULT_CORRUPT_EVERY", "LUMAR_VCAM_JPEG_QUALITY",
+              "LUMAR_VCAM_SOURCE_CHANGE_AT", "LUMAR_VCAM_SOURCE_CHANGE_SIZE"}) {
             unsetenv(name);
         }
     }
@@ -121,6 +128,40 @@ TEST_F(V4l2SourceTest, PrefersNv12AndNegotiatesRequestedSize)
     EXPECT_EQ(source.height(), 720);
     EXPECT_DOUBLE_EQ(source.fps(), 60.0);
     EXPECT_GE(source.bufferCount(), 4u);
+}
+
+TEST_F(V4l2SourceTest, NegotiationOrderIsNv12YuyvMjpegGrey)
+{
+    struct Offer {
+        const char* formats;
+        uint32_t expected;
+    };
+    for (Offer offer : {Offer{"GREY,MJPG,YUYV,NV12", V4L2_PIX_FMT_NV12}, Offer{"GREY,MJPG,YUYV", V4L2_PIX_FMT_YUYV},
+                        Offer{"GREY,MJPG", V4L2_PIX_FMT_MJPEG}, Offer{"GREY", V4L2_PIX_FMT_GREY}}) {
+        setenv("LUMAR_VCAM_FORMATS", offer.formats, 1);
+        V4l2Source source(options());
+        EXPECT_EQ(source.pixelFormat(), offer.expected) << offer.formats;
+    }
+}
+
+TEST_F(V4l2SourceTest, ConfiguredFormatWinsOrFailsClearly)
+{
+    V4l2Options o = options();
+    o.pixelFormat = pixelFormatFromName("mjpeg"); // the device offers all four
+    {
+        V4l2Source source(o);
+        EXPECT_EQ(source.pixelFormat(), uint32_t(V4L2_PIX_FMT_MJPEG));
+    }
+    setenv("LUMAR_VCAM_FORMATS", "YUYV", 1);
+    o.pixelFormat = pixelFormatFromName("nv12");
+    try {
+        V4l2Source source(o);
+        FAIL() << "a format the device lacks was accepted";
+    } catch (const RuntimeError& error) {
+        EXPECT_NE(std::string(error.what()).find("camera.format NV12 is not offered (offers YUYV"), std::string::npos)
+            << error.what();
+    }
+    EXPECT_THROW(pixelFormatFromName("rgb24"), InputError);
 }
 
 TEST_F(V4l2SourceTest, ClosestSizeWhenTheRequestIsNotOffered)
@@ -249,6 +290,189 @@ TEST_F(V4l2SourceTest, StallShorterThanTheTimeoutIsAGapInTimestamps)
         previous = frame.timestampNs;
     }
     EXPECT_EQ(source.framesDropped(), 0u);
+}
+
+// MJPEG at quality 95 (4:2:2): inside the bars within 2 code values (as the decoder's own
+// test), the moving block where the sequence number puts it, 60 frames without a drop.
+TEST_F(V4l2SourceTest, StreamsMjpegDecodedWithinTolerance)
+{
+    setenv("LUMAR_VCAM_FORMATS", "MJPG", 1);
+    V4l2Source source(options());
+    ASSERT_EQ(source.pixelFormat(), uint32_t(V4L2_PIX_FMT_MJPEG));
+    Frame frame;
+    for (int i = 0; i < 60; ++i) {
+        ASSERT_TRUE(source.next(frame));
+        ASSERT_EQ(frame.rgb.width, 640);
+        ASSERT_EQ(frame.luma.height, 480);
+        EXPECT_LE(worstBarError(frame, false), 2) << "frame " << i;
+        const int left = vcam::blockLeft(int64_t(frame.sequence), 640);
+        const int row = (vcam::blockBandTop(480) + 480) / 2;
+        EXPECT_GT(*frame.luma.at(left + vcam::kBlockWidth / 2, row), 250) << "frame " << i;
+        EXPECT_LT(*frame.luma.at((left + vcam::kBlockWidth + 8) % 640, row), 5) << "frame " << i;
+    }
+    EXPECT_EQ(frame.sequence, 59u);
+    EXPECT_EQ(source.framesDropped(), 0u);
+    EXPECT_EQ(source.framesCorrupt(), 0u);
+}
+
+TEST_F(V4l2SourceTest, CorruptMjpegFramesAreCountedAndSkipped)
+{
+    setenv("LUMAR_VCAM_FORMATS", "MJPG", 1);
+    setenv("LUMAR_VCAM_FAULT_CORRUPT_EVERY", "4", 1);
+    V4l2Source source(options());
+    Frame frame;
+    for (int i = 0; i < 30; ++i) {
+        ASSERT_NO_THROW(source.next(frame)) << "frame " << i;
+        EXPECT_NE((frame.sequence + 1) % 4, 0u) << "a corrupt frame was delivered";
+        EXPECT_LE(worstBarError(frame, false), 2);
+    }
+    // Sequences s <= last with (s + 1) divisible by 4 were garbled by the device.
+    EXPECT_EQ(source.framesCorrupt(), (frame.sequence + 1) / 4);
+    EXPECT_GE(source.framesCorrupt(), 9u);
+    EXPECT_EQ(source.framesDropped(), 0u); // corrupt frames are not sequence gaps
+}
+
+TEST_F(V4l2SourceTest, OnlyCorruptFramesTimeOutLikeNoFrames)
+{
+    setenv("LUMAR_VCAM_FORMATS", "MJPG", 1);
+    setenv("LUMAR_VCAM_FAULT_CORRUPT_EVERY", "1", 1); // every frame garbled
+    V4l2Options o = options();
+    o.frameTimeoutMs = 300;
+    V4l2Source source(o);
+    Frame frame;
+    try {
+        source.next(frame);
+        FAIL() << "a corrupt frame was delivered";
+    } catch (const RuntimeError& error) {
+        EXPECT_EQ(std::string(error.what()), std::string(devicePath()) + ": no frame for 0.3 s (only corrupt ones)");
+    }
+    // 300 ms at 60 fps: about 18 frames, each counted.
+    EXPECT_GE(source.framesCorrupt(), 15u);
+    EXPECT_LE(source.framesCorrupt(), 19u);
+}
+
+TEST_F(V4l2SourceTest, ShortMjpegFramesAreCountedAsCorrupt)
+{
+    setenv("LUMAR_VCAM_FORMATS", "MJPG", 1);
+    setenv("LUMAR_VCAM_FAULT_SHORT_EVERY", "3", 1); // bytesused halved: a truncated JPEG
+    V4l2Source source(options());
+    Frame frame;
+    for (int i = 0; i < 12; ++i) {
+        ASSERT_TRUE(source.next(frame));
+        EXPECT_NE((frame.sequence + 1) % 3, 0u);
+    }
+    EXPECT_EQ(source.framesCorrupt(), (frame.sequence + 1) / 3);
+}
+
+// Reads a control through a second handle on the device, as another program would.
+int32_t readControl(uint32_t id)
+{
+    const int fd = ::open(devicePath(), O_RDWR);
+    EXPECT_GE(fd, 0);
+    v4l2_control control{id, 0};
+    EXPECT_EQ(::ioctl(fd, VIDIOC_G_CTRL, &control), 0) << std::hex << id;
+    ::close(fd);
+    return control.value;
+}
+
+TEST_F(V4l2SourceTest, ControlsFromTheConfigAreAppliedAndClamped)
+{
+    V4l2Options o = options();
+    o.controls.exposureUs = 10'000;  // 100 units of 100 us
+    o.controls.gain = 300;           // the device's range is 0..255: clamped
+    o.controls.whiteBalanceK = 5003; // step 10: snapped to 5000
+    o.controls.powerLineHz = 60;
+    V4l2Source source(o);
+    EXPECT_EQ(readControl(V4L2_CID_EXPOSURE_AUTO), V4L2_EXPOSURE_MANUAL);
+    EXPECT_EQ(readControl(V4L2_CID_EXPOSURE_ABSOLUTE), 100);
+    EXPECT_EQ(readControl(V4L2_CID_GAIN), 255);
+    EXPECT_EQ(readControl(V4L2_CID_AUTO_WHITE_BALANCE), 0);
+    EXPECT_EQ(readControl(V4L2_CID_WHITE_BALANCE_TEMPERATURE), 5000);
+    EXPECT_EQ(readControl(V4L2_CID_POWER_LINE_FREQUENCY), V4L2_CID_POWER_LINE_FREQUENCY_60HZ);
+    Frame frame;
+    EXPECT_TRUE(source.next(frame)); // still streams
+
+    // "auto": the camera's automatic modes (a UVC camera has aperture priority, not full auto).
+    const int fd = ::open(devicePath(), O_RDWR);
+    ASSERT_GE(fd, 0);
+    CameraControlsConfig automatic;
+    automatic.exposureUs = CameraControlsConfig::kAuto;
+    automatic.whiteBalanceK = CameraControlsConfig::kAuto;
+    automatic.powerLineHz = 0;
+    const auto applied = applyCameraControls(devicePath(), fd, automatic);
+    ::close(fd);
+    ASSERT_EQ(applied.size(), 3u);
+    for (const AppliedControl& control : applied) {
+        EXPECT_TRUE(control.set) << control.name;
+    }
+    EXPECT_EQ(readControl(V4L2_CID_EXPOSURE_AUTO), V4L2_EXPOSURE_APERTURE_PRIORITY);
+    EXPECT_EQ(readControl(V4L2_CID_AUTO_WHITE_BALANCE), 1);
+    EXPECT_EQ(readControl(V4L2_CID_POWER_LINE_FREQUENCY), V4L2_CID_POWER_LINE_FREQUENCY_DISABLED);
+}
+
+TEST_F(V4l2SourceTest, ControlsTheDeviceLacksAreWarningsNotErrors)
+{
+    // /dev/null answers every V4L2 ioctl with ENOTTY: a camera without any controls.
+    const int fd = ::open("/dev/null", O_RDWR);
+    ASSERT_GE(fd, 0);
+    CameraControlsConfig config;
+    config.exposureUs = 20'000;
+    config.gain = 10;
+    config.whiteBalanceK = 4000;
+    config.powerLineHz = 50;
+    std::vector<AppliedControl> applied;
+    ASSERT_NO_THROW(applied = applyCameraControls("/dev/null", fd, config));
+    ::close(fd);
+    ASSERT_EQ(applied.size(), 6u); // exposure mode + time, gain, white balance mode + temperature, power line
+    for (const AppliedControl& control : applied) {
+        EXPECT_FALSE(control.set) << control.name;
+    }
+}
+
+TEST_F(V4l2SourceTest, SourceChangeRestartsTheStreamAtTheNewSize)
+{
+    setenv("LUMAR_VCAM_SOURCE_CHANGE_AT", "10", 1);
+    setenv("LUMAR_VCAM_SOURCE_CHANGE_SIZE", "1280x720", 1);
+    for (const char* format : {"NV12", "MJPG"}) {
+        setenv("LUMAR_VCAM_FORMATS", format, 1);
+        V4l2Source source(options(640, 480));
+        Frame frame;
+        for (int i = 0; i < 10; ++i) {
+            ASSERT_TRUE(source.next(frame));
+            ASSERT_EQ(frame.rgb.width, 640) << format;
+        }
+        EXPECT_EQ(source.sourceChanges(), 0);
+        for (int i = 0; i < 10; ++i) {
+            ASSERT_TRUE(source.next(frame));
+            ASSERT_EQ(frame.rgb.width, 1280) << format;
+            ASSERT_EQ(frame.luma.height, 720) << format;
+            EXPECT_LE(worstBarError(frame, false), 2) << format;
+        }
+        EXPECT_EQ(source.sourceChanges(), 1) << format;
+        EXPECT_EQ(source.width(), 1280);
+        EXPECT_EQ(source.height(), 720);
+        EXPECT_EQ(frame.sequence, 9u); // the restarted stream counts from 0 again
+        EXPECT_EQ(source.framesDropped(), 0u);
+    }
+}
+
+TEST_F(V4l2SourceTest, SourceChangeIsAnErrorForAFixedSizeCaller)
+{
+    setenv("LUMAR_VCAM_SOURCE_CHANGE_AT", "5", 1);
+    V4l2Options o = options(640, 480);
+    o.followResolutionChanges = false;
+    V4l2Source source(o);
+    Frame frame;
+    for (int i = 0; i < 5; ++i) {
+        ASSERT_TRUE(source.next(frame));
+    }
+    try {
+        source.next(frame);
+        FAIL() << "no error for the resolution change";
+    } catch (const RuntimeError& error) {
+        EXPECT_NE(std::string(error.what()).find("changed resolution from 640x480 to 1280x720"), std::string::npos)
+            << error.what();
+    }
 }
 
 TEST_F(V4l2SourceTest, MissingDeviceIsARuntimeError)

@@ -86,6 +86,9 @@ TEST_F(ConfigTest, ShippedExampleEqualsTheBuiltInDefault)
     EXPECT_EQ(a.camera.loop, b.camera.loop);
     EXPECT_EQ(a.camera.seed, b.camera.seed);
     EXPECT_EQ(a.camera.noiseSigma, b.camera.noiseSigma);
+    EXPECT_EQ(a.camera.format, b.camera.format);
+    EXPECT_TRUE(a.camera.controls.empty());
+    EXPECT_TRUE(b.camera.controls.empty());
     EXPECT_EQ(fs::weakly_canonical(a.camera.calibration), fs::weakly_canonical(b.camera.calibration));
     ASSERT_EQ(a.camera.fakeTags.size(), b.camera.fakeTags.size());
     EXPECT_EQ(a.camera.fakeTags[0].id, b.camera.fakeTags[0].id);
@@ -298,6 +301,34 @@ TEST_F(ConfigTest, LoadConfigReportsUnreadableFiles)
     } catch (const InputError& e) {
         EXPECT_EQ(std::string(e.what()).rfind((dir_ / "scene.toml").string() + ":2: camera.width", 0), 0u) << e.what();
     }
+}
+
+TEST_F(ConfigTest, CameraFormatAndControls)
+{
+    const Config c = parse("[camera]\nformat = \"mjpeg\"\n[camera.controls]\nexposure_us = 8000\ngain = 40\n"
+                           "white_balance_k = \"auto\"\npower_line_hz = 50\n");
+    EXPECT_EQ(c.camera.format, "mjpeg");
+    EXPECT_EQ(c.camera.controls.exposureUs, 8000);
+    EXPECT_EQ(c.camera.controls.gain, 40);
+    EXPECT_EQ(c.camera.controls.whiteBalanceK, CameraControlsConfig::kAuto);
+    EXPECT_EQ(c.camera.controls.powerLineHz, 50);
+    const Config d = parse("[camera.controls]\nexposure_us = \"auto\"\nwhite_balance_k = 4500\n");
+    EXPECT_EQ(d.camera.format, "auto");
+    EXPECT_EQ(d.camera.controls.exposureUs, CameraControlsConfig::kAuto);
+    EXPECT_EQ(d.camera.controls.whiteBalanceK, 4500);
+    EXPECT_FALSE(d.camera.controls.gain.has_value());
+    EXPECT_FALSE(d.camera.controls.powerLineHz.has_value());
+
+    expectError("[camera]\nformat = \"rgb24\"\n", "test.toml:2: camera.format:");
+    expectError("[camera.controls]\nexposure_us = \"manual\"\n", "test.toml:2: camera.controls.exposure_us:");
+    expectError("[camera.controls]\nexposure_us = 0\n", "test.toml:2: camera.controls.exposure_us: 0 is outside");
+    expectError("[camera.controls]\nexposure_us = 1.5\n",
+                "test.toml:2: camera.controls.exposure_us: expected \"auto\" or an integer");
+    expectError("[camera.controls]\ngain = -1\n", "test.toml:2: camera.controls.gain:");
+    expectError("[camera.controls]\nwhite_balance_k = 100\n", "test.toml:2: camera.controls.white_balance_k:");
+    expectError("[camera.controls]\npower_line_hz = 55\n",
+                "test.toml:2: camera.controls.power_line_hz: 55 must be 0 (off), 50 or 60");
+    expectError("[camera.controls]\nfocus = 3\n", "test.toml:2: camera.controls.focus: unknown key");
 }
 
 } // namespace
