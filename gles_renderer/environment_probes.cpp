@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -32,6 +34,18 @@ void finishIf(bool profile)
 glm::dvec3 boundsCentre(const GpuModel& model)
 {
     return 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+}
+
+// Whether the bounding sphere of `item` (in a face camera's frame) reaches into the face's
+// frustum: in front of the camera and inside the four planes |x| = z, |y| = z (90 degrees).
+bool mayBeInFace(const DrawItem& item, const GpuModel& model)
+{
+    const glm::dvec3 centre = glm::dvec3(item.cameraFromModel * glm::dvec4(boundsCentre(model), 1.0));
+    const glm::dmat3 linear(item.cameraFromModel);
+    const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const double radius = scale * 0.5 * glm::length(glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin));
+    const double slack = radius * std::numbers::sqrt2; // distance to a 45-degree plane
+    return centre.z > -radius && std::abs(centre.x) <= centre.z + slack && std::abs(centre.y) <= centre.z + slack;
 }
 
 } // namespace
@@ -114,16 +128,29 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         const glm::dmat3 faceFromCube = faceCameraFromCube(face);
         const glm::dmat4 faceFromCamera =
             glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
-        faceItems_.assign(items.begin(), items.end());
-        for (DrawItem& item : faceItems_)
+        // Only what the face's 90-degree frustum can see: each neighbour usually shows in
+        // one or two faces of six.
+        faceItems_.clear();
+        faceMaps_.clear();
+        for (size_t i = 0; i < items.size(); ++i) {
+            if (i == owner)
+                continue;
+            DrawItem item = items[i];
             item.cameraFromModel = faceFromCamera * item.cameraFromModel;
+            if (!mayBeInFace(item, models[size_t(item.model)])) {
+                ++stats.facesCulled;
+                continue;
+            }
+            faceItems_.push_back(item);
+            faceMaps_.push_back(maps_[i]);
+        }
         FrameUniforms frame;
         frame.clipFromCamera = glm::mat4(clip);
         const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
         for (int c = 0; c < 3; ++c)
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
         frame.frameParams = glm::vec4(-1.0f, 1.0f, 0.0f, 0.0f); // mirrored frame, linear radiance
-        meshes.draw(frame, models, faceItems_, maps_, int(owner));
+        meshes.draw(frame, models, faceItems_, faceMaps_);
     });
     finishIf(profile);
     stats.environmentMapsMs += millisecondsSince(start);

@@ -52,6 +52,7 @@ private:
     std::vector<const IblMaps*> maps_;
     std::vector<size_t> updates_;
     std::vector<DrawItem> faceItems_;
+    std::vector<const IblMaps*> faceMaps_;
 };
 
 } // namespace lumar

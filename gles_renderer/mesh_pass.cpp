@@ -1,5 +1,6 @@
 #include "gles_renderer/mesh_pass.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -73,8 +74,11 @@ private:
 
 MeshPass::MeshPass()
     : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
-      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), frameUniforms_(GlBuffer::create())
+      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), depthOnly_(linkProgram(kDepthOnlyProgram)),
+      depthOnlyCameraFromMeshLocation_(uniformLocation(depthOnly_, "uCameraFromMesh")),
+      frameUniforms_(GlBuffer::create())
 {
+    bindUniformBlock(depthOnly_, "Frame", kFrameBlockBinding);
     glUseProgram(program_.name());
     glUniform1i(uniformLocation(program_, "uBaseColor"), GLint(kBaseColorUnit));
     glUniform1i(uniformLocation(program_, "uMetallicRoughness"), GLint(kMetallicRoughnessUnit));
@@ -104,27 +108,47 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
 
-    glUseProgram(program_.name());
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
-    StateCache state;
-    // With DepthOnly, two rounds: the phantoms into depth, then everything else in colour.
-    const int rounds = phantoms == Phantoms::DepthOnly ? 2 : 1;
-    for (int round = 0; round < rounds; ++round) {
-        if (rounds == 2)
-            glColorMask(round == 1, round == 1, round == 1, round == 1);
+    if (phantoms == Phantoms::DepthOnly) {
+        // The phantoms first, into depth alone with a shader that shades nothing.
+        // The program writes no colour, which leaves the colour buffer undefined where it
+        // draws unless colour writes are off.
+        StateCache state;
+        glUseProgram(depthOnly_.name());
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         for (size_t i = 0; i < items.size(); ++i)
-            if (int(i) != skip && (rounds == 1 || items[i].phantom == (round == 0)))
-                drawItem(items[i], *maps[i], models, state);
+            if (int(i) != skip && items[i].phantom)
+                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
+    // Nearest first: the depth test then rejects hidden fragments before they are shaded.
+    order_.clear();
+    for (size_t i = 0; i < items.size(); ++i)
+        if (int(i) != skip && (phantoms == Phantoms::Shaded || !items[i].phantom))
+            order_.push_back({centreDepth(items[i], models), i});
+    std::sort(order_.begin(), order_.end());
+    StateCache state;
+    glUseProgram(program_.name());
+    for (const auto& [depth, i] : order_)
+        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_);
     glBindVertexArray(0);
 }
 
-void MeshPass::drawItem(const DrawItem& item, const IblMaps& maps, const std::vector<GpuModel>& models,
-                        StateCache& state) const
+double MeshPass::centreDepth(const DrawItem& item, const std::vector<GpuModel>& models)
 {
-    state.bindMaps(&maps);
+    const GpuModel& model = models[size_t(item.model)];
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+    return (item.cameraFromModel * glm::dvec4(centre, 1.0)).z;
+}
+
+void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
+                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation) const
+{
+    const bool shaded = normalFromMeshLocation >= 0;
+    if (shaded)
+        state.bindMaps(maps);
     const GpuModel& model = models[size_t(item.model)];
     for (const GpuPrimitive& primitive : model.primitives) {
         // Composed in double precision: model matrices may carry large translations.
@@ -136,10 +160,14 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps& maps, const std::ve
         // A mirroring transform turns the winding around (see clipFromCamera for CW).
         state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
         const glm::mat4 cameraFromMeshF(cameraFromMesh);
-        const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
-        glUniformMatrix4fv(cameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
-        glUniformMatrix3fv(normalFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
-        state.bindMaterial(&model.materials[primitive.material]);
+        glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+        if (shaded) {
+            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+            glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+            state.bindMaterial(&model.materials[primitive.material]);
+        } else {
+            state.setCulling(!model.materials[primitive.material].doubleSided);
+        }
         glBindVertexArray(primitive.vertexArray.name());
         glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
     }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "gles_renderer/gl_object.h"
@@ -42,12 +43,19 @@ public:
               std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded) const;
 
 private:
-    void drawItem(const DrawItem& item, const IblMaps& maps, const std::vector<GpuModel>& models,
-                  StateCache& state) const;
+    // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
+    void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
+                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation) const;
 
+    // Depth along the view of the item's bounding-box centre (draw order).
+    static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
+
+    mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
     GlProgram program_;
     GLint cameraFromMeshLocation_;
     GLint normalFromMeshLocation_;
+    GlProgram depthOnly_;
+    GLint depthOnlyCameraFromMeshLocation_;
     GlBuffer frameUniforms_;
 };
 

@@ -49,6 +49,7 @@ struct EnvironmentMapOptions {
 // waits for the GPU between stages, which a real GPU would otherwise overlap).
 struct RenderStats {
     int mapsUpdated = 0;
+    int facesCulled = 0;          // objects left out of cube faces they cannot appear in
     double environmentMapsMs = 0; // cube faces: skybox and the other objects
     double shMs = 0;              // SH projection and the diffuse map
     double prefilterMs = 0;       // the glossy maps

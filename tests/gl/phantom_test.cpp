@@ -1,0 +1,45 @@
+// Phantoms in the frame (DESIGN.md §6.5): a proxy of a real object writes depth only, so the
+// camera image shows through it bit-exactly and a virtual object behind it is hidden, while
+// the part of the object beside it is drawn.
+#include <gtest/gtest.h>
+
+#include "gl_test_support.h"
+#include "gles_renderer/builtin_shapes.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kWidth = 160, kHeight = 120;
+
+TEST(Phantom, HidesVirtualObjectsBehindItAndLeavesTheCameraImage)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const CameraIntrinsics k = test::makeIntrinsics(kWidth, kHeight, 150, 150, 79.5, 59.5);
+    Image8 camera(kWidth, kHeight, 3);
+    for (size_t i = 0; i < camera.data.size(); ++i)
+        camera.data[i] = uint8_t((i * 37) % 251); // a busy image: any change shows
+    // A white emissive quad 1 m ahead covering the frame's left and right halves...
+    const ModelId quad =
+        renderer.addModel(test::cameraFacingRectangle(-0.4f, -0.2f, 0.4f, 0.2f, test::emissiveMaterial({1, 1, 1})));
+    // ...and a phantom box 0.5 m ahead in front of its left half only.
+    const ModelId box = renderer.addModel(makeCube());
+    const DrawItem items[] = {{quad, test::translation(0, 0, 1)},
+                              {box, test::translation(-0.15, 0, 0.5) * glm::dmat4(glm::dmat3(0.2)), -1, true}};
+    renderer.render(camera, k, items);
+    Image8 out;
+    renderer.readback(out);
+    // Behind the phantom (its projection: x in about [-0.25, -0.05] / 0.4 * 150 + 79.5 = [-14, 61]):
+    // the camera image, unchanged.
+    size_t changed = 0;
+    for (int y = 40; y < 80; ++y)
+        for (int x = 10; x < 50; ++x)
+            for (int c = 0; c < 3; ++c)
+                changed += out.at(x, y)[c] != camera.at(x, y)[c];
+    EXPECT_EQ(changed, 0u);
+    // Beside it the quad is drawn (white emission, tone-mapped).
+    for (int c = 0; c < 3; ++c)
+        EXPECT_GT(out.at(120, 60)[c], 150);
+}
+
+} // namespace
+} // namespace lumar
