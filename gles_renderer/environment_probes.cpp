@@ -149,7 +149,8 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
         for (int c = 0; c < 3; ++c)
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
-        frame.frameParams = glm::vec4(-1.0f, 1.0f, 0.0f, 0.0f); // mirrored frame, linear radiance
+        // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
+        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 0.0f);
         meshes.draw(frame, models, faceItems_, faceMaps_);
     });
     finishIf(profile);

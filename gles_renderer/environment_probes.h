@@ -30,6 +30,8 @@ public:
 
     [[nodiscard]] const IblMaps* objectMaps(int object) const;
     [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
+    // Whether the maps are RGBA8 RGBM (no float render targets): shaders decode them.
+    [[nodiscard]] bool rgbm() const { return pipeline_.rgbm(); }
     // Forgets every object's maps (the models they showed are gone).
     void clear() { probes_.clear(); }
 

@@ -125,7 +125,7 @@ public:
         const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
         for (int c = 0; c < 3; ++c)
             frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
-        frame_.frameParams = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, 0.0f);
         meshes_.draw(frame_, models_, items, maps, -1, MeshPass::Phantoms::DepthOnly);
         target_.finishFrame();
         if (profile_) {

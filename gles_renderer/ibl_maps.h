@@ -23,11 +23,15 @@ struct IblSettings {
     int glossy2Size = 16;       // ... at glossy2Exponent
     int prefilterSamples = 144; // lobe samples per glossy-2 texel (from the mirror map)
     int cascadeSamples = 36;    // lobe samples per glossy-1 texel (from glossy-2, already smooth)
+    // Store the maps as RGBA8 RGBM even where float targets exist (tests of the fallback).
+    bool forceRgbm = false;
     float glossy1Exponent = 8.0f;
     float glossy2Exponent = 64.0f;
 };
 
 struct IblMaps {
+    // RGBA16F cubes; RGBA8 RGBM ones (shaders_es/rgbm.glsl) where the GLES implementation
+    // cannot render to a float format.
     GlTexture mirror;       // RGBA16F cube, mipmapped
     GlTexture coefficients; // RGBA32F (or 16F) 1 x 9: the SH9 of the mirror map (rgb)
     GlTexture diffuse;      // RGBA16F cubes

@@ -11,8 +11,11 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "gles_renderer/cube_face_camera.h"
+#include "gles_renderer/cube_map.h"
 #include "gles_renderer/gl_check.h"
+#include "gles_renderer/sh_projection.h"
 #include "gles_renderer/shader_program.h"
 #include "gles_renderer/sphere_samples.h"
 
@@ -25,6 +28,8 @@ constexpr GLint kSourceUnit = 0;
 constexpr GLint kSamplesUnit = 1;
 // A glossy lobe is integrated where cos^n exceeds this fraction of its peak.
 constexpr float kLobeCutoff = 0.01f;
+// shaders_es/rgbm.glsl's range.
+constexpr float kRgbmRange = 16.0f;
 
 bool hasGlExtension(const char* name)
 {
@@ -51,11 +56,11 @@ void checkSettings(const IblSettings& s)
         throw InputError("glossy prefilter needs 4..4096 samples and exponents 1 <= n1 < n2");
 }
 
-GlTexture makeCube(int size, int levels)
+GlTexture makeCube(int size, int levels, bool rgbm)
 {
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_CUBE_MAP, texture.name());
-    glTexStorage2D(GL_TEXTURE_CUBE_MAP, levels, GL_RGBA16F, size, size);
+    glTexStorage2D(GL_TEXTURE_CUBE_MAP, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, size, size);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -112,19 +117,25 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // Core GLES 3.0 renders to no float format. EXT_color_buffer_float adds RGBA16F and
     // RGBA32F (the SH sums then keep full precision); EXT_color_buffer_half_float RGBA16F
     // alone, enough for radiance and for sums of 64 samples (11-bit mantissa: ~0.05 %).
-    if (hasGlExtension("GL_EXT_color_buffer_float"))
+    if (hasGlExtension("GL_EXT_color_buffer_float")) {
         sumFormat_ = GL_RGBA32F;
-    else if (hasGlExtension("GL_EXT_color_buffer_half_float"))
+    } else if (hasGlExtension("GL_EXT_color_buffer_half_float")) {
         sumFormat_ = GL_RGBA16F;
-    else
-        throw RuntimeError("the GLES implementation renders to no float format (neither GL_EXT_color_buffer_float "
-                           "nor GL_EXT_color_buffer_half_float); the environment maps need one");
+    } else {
+        rgbm_ = true;
+        LUMAR_LOG(Render, Warn)
+            << "the GLES implementation renders to no float format (neither "
+               "GL_EXT_color_buffer_float nor GL_EXT_color_buffer_half_float): environment maps are "
+               "RGBA8 RGBM, their SH sums run on the CPU";
+    }
+    rgbm_ = rgbm_ || settings_.forceRgbm;
 
     skyboxEnvironmentFromFace_ = uniformLocation(skybox_, "uEnvironmentFromFace");
     skyboxLod_ = uniformLocation(skybox_, "uLod");
     skyboxIntensity_ = uniformLocation(skybox_, "uIntensity");
     glUseProgram(skybox_.name());
     glUniform1i(uniformLocation(skybox_, "uEquirect"), kSourceUnit);
+    glUniform1i(uniformLocation(skybox_, "uRgbm"), rgbm_);
 
     const int samples = settings_.shSamples;
     glUseProgram(shProject_.name());
@@ -148,10 +159,12 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     glUseProgram(diffuseFromSH_.name());
     glUniform1i(uniformLocation(diffuseFromSH_, "uCoefficients"), kSourceUnit);
     diffuseEnvironmentFromFace_ = uniformLocation(diffuseFromSH_, "uEnvironmentFromFace");
+    glUniform1i(uniformLocation(diffuseFromSH_, "uRgbm"), rgbm_);
     glUseProgram(phongPrefilter_.name());
     glUniform1i(uniformLocation(phongPrefilter_, "uEnvironment"), kSourceUnit);
     glUniform1i(uniformLocation(phongPrefilter_, "uSamples"), kSamplesUnit);
     prefilterEnvironmentFromFace_ = uniformLocation(phongPrefilter_, "uEnvironmentFromFace");
+    glUniform1i(uniformLocation(phongPrefilter_, "uRgbm"), rgbm_);
     prefilterLod_ = uniformLocation(phongPrefilter_, "uLod");
 
     // The SH sample set, rows x (N / rows) directions: row i is fragment i's share.
@@ -159,6 +172,7 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // gaps, so a small bright source (the sun) read from the matching mip level is counted
     // once: measured 0.6 % SH error on venice_sunset_1k.hdr against 11 % for jittered.
     const std::vector<glm::vec3> directions = fibonacciSphereSamples(samples);
+    shDirections_ = directions;
     std::vector<float> texels;
     texels.reserve(directions.size() * 4);
     for (const glm::vec3& d : directions)
@@ -220,11 +234,12 @@ IblMaps IblPipeline::createMaps() const
 {
     IblMaps maps;
     maps.mirrorLevels = int(std::log2(settings_.mirrorSize)) + 1;
-    maps.mirror = makeCube(settings_.mirrorSize, maps.mirrorLevels);
-    maps.coefficients = makeFloatTexture(1, 9, nullptr, sumFormat_);
-    maps.diffuse = makeCube(settings_.diffuseSize, 1);
-    maps.glossy1 = makeCube(settings_.glossy1Size, 1);
-    maps.glossy2 = makeCube(settings_.glossy2Size, 1);
+    maps.mirror = makeCube(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
+    // RGBM: the CPU writes the coefficients, sampling a float texture needs no extension.
+    maps.coefficients = makeFloatTexture(1, 9, nullptr, rgbm_ ? GL_RGBA32F : sumFormat_);
+    maps.diffuse = makeCube(settings_.diffuseSize, 1, rgbm_);
+    maps.glossy1 = makeCube(settings_.glossy1Size, 1, rgbm_);
+    maps.glossy2 = makeCube(settings_.glossy2Size, 1, rgbm_);
     checkGlError("allocating environment maps");
     return maps;
 }
@@ -311,8 +326,40 @@ void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+void IblPipeline::projectShOnCpu(IblMaps& maps) const
+{
+    // Level 0, decoded here: the GPU's mip levels of RGBM texels average the encodings.
+    const int size = settings_.mirrorSize;
+    CubeMapF cube;
+    cube.size = size;
+    std::vector<uint8_t> texels(size_t(size) * size_t(size) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, readFramebuffer_.name());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    for (int face = 0; face < kCubeFaces; ++face) {
+        glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face),
+                               maps.mirror.name(), 0);
+        glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+        ImageF& image = cube.faces[size_t(face)];
+        image = ImageF(size, size, 3);
+        for (size_t i = 0; i < size_t(size) * size_t(size); ++i) {
+            const float scale = float(texels[i * 4 + 3]) / 255.0f * kRgbmRange / 255.0f;
+            for (size_t c = 0; c < 3; ++c)
+                image.data[i * 3 + c] = float(texels[i * 4 + c]) * scale;
+        }
+    }
+    const SH9 sh = projectSH9Uniform(shDirections_, [&](glm::vec3 d) { return sampleCubeBilinear(cube, d); });
+    float block[9 * 4] = {};
+    for (size_t j = 0; j < 9; ++j)
+        for (size_t c = 0; c < 3; ++c)
+            block[j * 4 + c] = sh[j][int(c)];
+    glBindTexture(GL_TEXTURE_2D, maps.coefficients.name());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 1, 9, GL_RGBA, GL_FLOAT, block);
+}
+
 void IblPipeline::projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps& maps) const
 {
+    if (rgbm_)
+        throw RuntimeError("the lat-long SH projection needs float render targets");
     // A lat-long map of width W has W^2 / 2 texels, W^2 / 2^(2L+1) at level L: about one per
     // sample where that equals N (texels near the poles cover less, which the samples'
     // equal weights already account for).
@@ -326,8 +373,12 @@ void IblPipeline::projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps&
 
 void IblPipeline::projectSH(IblMaps& maps) const
 {
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
-    sumSamples(shProject_.name(), nearestLevel_.name(), maps.coefficients.name());
+    if (rgbm_) {
+        projectShOnCpu(maps);
+    } else {
+        bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
+        sumSamples(shProject_.name(), nearestLevel_.name(), maps.coefficients.name());
+    }
 
     // The diffuse map from the nine coefficients.
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.coefficients.name());

@@ -16,9 +16,13 @@ namespace lumar {
 
 class IblPipeline {
 public:
-    // Needs a current GLES 3 context that can render to RGBA16F (EXT_color_buffer_float or
-    // EXT_color_buffer_half_float); throws RuntimeError naming what is missing.
+    // Needs a current GLES 3 context. Maps are RGBA16F where the context can render to it
+    // (EXT_color_buffer_float or EXT_color_buffer_half_float), RGBA8 RGBM otherwise (the SH
+    // sums then run on the CPU over a read-back of the mirror map, with the same samples).
     explicit IblPipeline(const IblSettings& settings = {});
+
+    // Whether the maps are RGBM-encoded RGBA8 (shaders must decode them).
+    [[nodiscard]] bool rgbm() const { return rgbm_; }
 
     [[nodiscard]] const IblSettings& settings() const { return settings_; }
 
@@ -56,11 +60,15 @@ private:
     };
     Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
     void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+    // The RGBM fallback of projectSH's sums: on the CPU, over the decoded mirror map.
+    void projectShOnCpu(IblMaps& maps) const;
     // Pass 1 with `program` (its source bound to kSourceUnit), then pass 2 into `coefficients`.
     void sumSamples(GLuint program, GLuint sampler, GLuint coefficients) const;
 
     IblSettings settings_;
     GLenum sumFormat_ = GL_RGBA32F; // partial sums and coefficients
+    bool rgbm_ = false;
+    std::vector<glm::vec3> shDirections_; // the SH sample set, for the CPU fallback
     GlProgram skybox_;
     GlProgram shProject_;
     GlProgram shProjectEquirect_;

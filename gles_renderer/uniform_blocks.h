@@ -20,7 +20,8 @@ struct FrameUniforms {
     // mat3 in std140: three columns, each padded to a vec4.
     glm::vec4 environmentFromCamera[3] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
     // x: +1, or -1 when the camera frame is mirrored (cube faces); y: 1 = write linear
-    // radiance (environment maps), 0 = tone-mapped sRGB (the frame); zw unused.
+    // radiance (environment maps), 0 = tone-mapped sRGB (the frame); z: 1 = the maps are
+    // RGBA8 RGBM (decode them, and encode linear output); w unused.
     glm::vec4 frameParams{1.0f, 0.0f, 0.0f, 0.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);

@@ -7,11 +7,13 @@ precision highp sampler2D;
 
 uniform mat3 uEnvironmentFromFace;
 uniform sampler2D uCoefficients; // 1 x 9, RGBA32F
+uniform bool uRgbm;              // the face is RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
 out vec4 fragColor;
 
 #include "sh_basis.glsl"
+#include "rgbm.glsl"
 
 void main()
 {
@@ -22,5 +24,5 @@ void main()
     vec3 e = vec3(0.0);
     for (int j = 0; j < 9; ++j)
         e += texelFetch(uCoefficients, ivec2(0, j), 0).rgb * (y[j] * bandOverPi[j == 0 ? 0 : (j < 4 ? 1 : 2)]);
-    fragColor = vec4(max(e, vec3(0.0)), 1.0);
+    fragColor = encodeMapTexel(max(e, vec3(0.0)), uRgbm);
 }

@@ -12,7 +12,9 @@ layout(std140) uniform Frame {
     mat4 clipFromCamera;
     mat3 environmentFromCamera;
     // x: +1, or -1 for a mirrored (cube-face) camera frame, where cross products flip;
-    // y: 1 writes linear radiance (environment maps), 0 tone-mapped sRGB (the frame).
+    // y: 1 writes linear radiance (environment maps), 0 tone-mapped sRGB (the frame);
+    // z: 1 = the maps are RGBA8 RGBM (no float render targets), so decode them, and encode
+    // the output too when y is 1.
     vec4 frameParams;
 };
 
@@ -44,6 +46,7 @@ in vec2 vUv;
 out vec4 fragColor;
 
 #include "lafortune.glsl"
+#include "rgbm.glsl"
 
 // glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
 const float kMaxExponent = 4096.0;
@@ -70,14 +73,19 @@ vec3 encodeSrgb(vec3 c)
 
 // Radiance of the environment around direction d (environment frame) for glossiness s.
 // Explicit LODs: the maps are small and implicit derivatives would blur across faces.
+vec3 mapRadiance(samplerCube map, vec3 d)
+{
+    return decodeMapTexel(textureLod(map, d, 0.0), frameParams.z > 0.5);
+}
+
 vec3 environmentRadiance(vec3 d, float s)
 {
     vec2 blend = glossyBlend(s);
     if (blend.x < 0.5)
-        return mix(textureLod(uDiffuseMap, d, 0.0).rgb, textureLod(uGlossy1Map, d, 0.0).rgb, blend.y);
+        return mix(mapRadiance(uDiffuseMap, d), mapRadiance(uGlossy1Map, d), blend.y);
     if (blend.x < 1.5)
-        return mix(textureLod(uGlossy1Map, d, 0.0).rgb, textureLod(uGlossy2Map, d, 0.0).rgb, blend.y);
-    return mix(textureLod(uGlossy2Map, d, 0.0).rgb, textureLod(uMirrorMap, d, 0.0).rgb, blend.y);
+        return mix(mapRadiance(uGlossy1Map, d), mapRadiance(uGlossy2Map, d), blend.y);
+    return mix(mapRadiance(uGlossy2Map, d), mapRadiance(uMirrorMap, d), blend.y);
 }
 
 void main()
@@ -133,12 +141,13 @@ void main()
 
     vec3 v = normalize(-vPosition);
     LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
-    vec3 diffuse = rhoD * textureLod(uDiffuseMap, environmentFromCamera * n, 0.0).rgb;
+    vec3 diffuse = rhoD * mapRadiance(uDiffuseMap, environmentFromCamera * n);
     vec3 specular = shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;
     if (any(greaterThan(emissiveNormalScale.rgb, vec3(0.0))))
         radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
 
-    fragColor = frameParams.y > 0.5 ? vec4(radiance, 1.0) : vec4(encodeSrgb(toneMapAces(radiance)), 1.0);
+    fragColor = frameParams.y > 0.5 ? encodeMapTexel(radiance, frameParams.z > 0.5)
+                                    : vec4(encodeSrgb(toneMapAces(radiance)), 1.0);
 }

@@ -12,9 +12,12 @@ uniform mat3 uEnvironmentFromFace;
 uniform samplerCube uEnvironment;
 uniform sampler2D uSamples; // RGBA32F, 1 row: xyz around +z, w the normalised weight
 uniform float uLod;
+uniform bool uRgbm; // source and face are RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
 out vec4 fragColor;
+
+#include "rgbm.glsl"
 
 void main()
 {
@@ -26,7 +29,7 @@ void main()
     vec3 sum = vec3(0.0);
     for (int k = 0; k < count; ++k) {
         vec4 s = texelFetch(uSamples, ivec2(k, 0), 0);
-        sum += textureLod(uEnvironment, t * s.x + b * s.y + r * s.z, uLod).rgb * s.w;
+        sum += decodeMapTexel(textureLod(uEnvironment, t * s.x + b * s.y + r * s.z, uLod), uRgbm) * s.w;
     }
-    fragColor = vec4(sum, 1.0);
+    fragColor = encodeMapTexel(sum, uRgbm);
 }

@@ -98,12 +98,15 @@ struct MapErrors {
     float sh, diffuse, glossy1, glossy2;
 };
 
-MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label)
+MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label, bool rgbm = false)
 {
     renderOnce(renderer, sky);
     const IblMaps& maps = renderer.environmentMaps();
     const IblSettings settings; // the defaults the renderer uses
-    const CubeMapF mirror = test::readCube(maps.mirror.name(), settings.mirrorSize);
+    const auto readCube = [&](const GlTexture& cube, int size) {
+        return rgbm ? test::readCubeRgbm(cube.name(), size) : test::readCube(cube.name(), size);
+    };
+    const CubeMapF mirror = readCube(maps.mirror, settings.mirrorSize);
     const float scale = maxComponent(mirror);
     MapErrors e{};
     e.mirror = maxRelativeError(
@@ -113,18 +116,18 @@ MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label)
     const SH9 gpuSH = readCoefficients(maps);
     e.sh = float(sh9RelativeError(gpuSH, projectCubeSH9BruteForce(mirror)));
 
-    const CubeMapF diffuse = test::readCube(maps.diffuse.name(), settings.diffuseSize);
+    const CubeMapF diffuse = readCube(maps.diffuse, settings.diffuseSize);
     const float diffuseScale = maxComponent(diffuse);
     e.diffuse = maxRelativeError(
         diffuse,
         [&](glm::vec3 d) { return glm::max(irradianceSH9(gpuSH, d) / std::numbers::pi_v<float>, glm::vec3(0)); },
         diffuseScale);
 
-    const CubeMapF glossy1 = test::readCube(maps.glossy1.name(), settings.glossy1Size);
+    const CubeMapF glossy1 = readCube(maps.glossy1, settings.glossy1Size);
     e.glossy1 = maxRelativeError(
         glossy1, [&](glm::vec3 d) { return prefilterPhongBruteForce(mirror, d, settings.glossy1Exponent); },
         maxComponent(glossy1));
-    const CubeMapF glossy2 = test::readCube(maps.glossy2.name(), settings.glossy2Size);
+    const CubeMapF glossy2 = readCube(maps.glossy2, settings.glossy2Size);
     e.glossy2 = maxRelativeError(
         glossy2, [&](glm::vec3 d) { return prefilterPhongBruteForce(mirror, d, settings.glossy2Exponent); },
         maxComponent(glossy2));
@@ -146,6 +149,22 @@ TEST(IblMaps, SmoothSkyMapsMatchTheirCpuReferences)
     EXPECT_LT(e.diffuse, 0.002f);
     EXPECT_LT(e.glossy1, 0.02f);
     EXPECT_LT(e.glossy2, 0.015f);
+}
+
+// The RGBM fallback for GLES implementations without float render targets (forced here):
+// RGBA8 maps, SH sums on the CPU over the decoded mirror map. 8-bit RGBM steps and mip
+// levels averaged in encoded form cost accuracy, bounded here.
+TEST(IblMaps, RgbmFallbackMapsMatchTheirCpuReferences)
+{
+    RenderOptions options;
+    options.environmentMaps.ibl.forceRgbm = true;
+    LUMAR_RENDERER_OR_SKIP(renderer, 32, 32, options);
+    const MapErrors e = measure(renderer, equirectOf(512, 256, lobedSky), "lobed sky, RGBM", true);
+    EXPECT_LT(e.mirror, 0.02f);
+    EXPECT_LT(e.sh, 0.01f);
+    EXPECT_LT(e.diffuse, 0.01f);
+    EXPECT_LT(e.glossy1, 0.04f);
+    EXPECT_LT(e.glossy2, 0.04f);
 }
 
 TEST(IblMaps, RealHdrMapsMatchTheirCpuReferences)
