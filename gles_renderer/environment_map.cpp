@@ -12,6 +12,7 @@
 #include <stb_image.h>
 
 #include "core/error.h"
+#include "core/file_bytes.h"
 #include "gles_renderer/radiance_hdr_check.h"
 
 namespace lumar {
@@ -22,24 +23,6 @@ namespace {
 constexpr int kMaxHdrSide = 16384;
 constexpr uint64_t kMaxHdrPixels = uint64_t(16384) * 8192;
 constexpr uintmax_t kMaxHdrFileBytes = uintmax_t(1) << 30;
-
-std::vector<uint8_t> readHdrFile(const std::filesystem::path& file)
-{
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) {
-        throw InputError(std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
-    }
-    const uintmax_t size = std::filesystem::file_size(file, ec);
-    if (ec || size > kMaxHdrFileBytes) {
-        throw InputError(ec ? "cannot read the file size: " + ec.message() : std::string("the file is too large"));
-    }
-    std::vector<uint8_t> bytes(static_cast<size_t>(size));
-    std::ifstream in(file, std::ios::binary);
-    if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-        throw InputError("cannot read the file");
-    }
-    return bytes;
-}
 
 ImageF decodeHdr(const std::vector<uint8_t>& bytes)
 {
@@ -92,7 +75,7 @@ template <typename T> std::array<T, 9> basis(T x, T y, T z)
 ImageF loadHdrImage(const std::filesystem::path& file)
 {
     try {
-        return decodeHdr(readHdrFile(file));
+        return decodeHdr(readFileBytes(file, kMaxHdrFileBytes));
     } catch (const InputError& e) {
         throw InputError(file.string() + ": " + e.what());
     }

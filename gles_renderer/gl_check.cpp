@@ -1,5 +1,6 @@
 #include "gles_renderer/gl_check.h"
 
+#include <cstring>
 #include <string>
 
 #include "core/error.h"
@@ -68,6 +69,18 @@ void checkFramebufferComplete(const char* what)
         break;
     }
     throw RuntimeError(std::string(what) + ": framebuffer incomplete (" + name + ")");
+}
+
+bool hasGlExtension(const char* name)
+{
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count; ++i) {
+        const auto* extension = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+        if (extension && std::strcmp(extension, name) == 0)
+            return true;
+    }
+    return false;
 }
 
 } // namespace lumar

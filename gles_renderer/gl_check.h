@@ -12,4 +12,7 @@ void checkGlError(const char* what);
 // Throws RuntimeError naming `what` and the status when the bound GL_FRAMEBUFFER is incomplete.
 void checkFramebufferComplete(const char* what);
 
+// Whether the current context lists GL extension `name` (e.g. "GL_EXT_color_buffer_float").
+bool hasGlExtension(const char* name);
+
 } // namespace lumar

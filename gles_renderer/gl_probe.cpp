@@ -6,6 +6,7 @@
 #include <GLES3/gl3.h>
 
 #include "gles_renderer/egl_context.h"
+#include "gles_renderer/gl_check.h"
 
 namespace lumar {
 namespace {
@@ -33,18 +34,6 @@ std::string glString(GLenum name)
     return text(reinterpret_cast<const char*>(glGetString(name)));
 }
 
-bool glHasExtension(const char* name)
-{
-    GLint count = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-    for (GLint i = 0; i < count; ++i) {
-        const auto* extension = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
-        if (extension && std::strcmp(extension, name) == 0)
-            return true;
-    }
-    return false;
-}
-
 } // namespace
 
 GlInfo probeGl()
@@ -66,7 +55,7 @@ GlInfo probeGl()
         info.eglExtensions.emplace_back(name, present);
     }
     for (const char* name : kGlExtensions)
-        info.glExtensions.emplace_back(name, glHasExtension(name));
+        info.glExtensions.emplace_back(name, hasGlExtension(name));
     return info;
 }
 

@@ -13,6 +13,7 @@
 #include <stb_image.h>
 
 #include "core/error.h"
+#include "core/file_bytes.h"
 #include "core/log.h"
 
 namespace lumar::gltf {
@@ -26,30 +27,6 @@ constexpr int kMaxImageSide = 16384;
 
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kChunkJson = 0x4E4F534A; // "JSON"
-
-std::vector<unsigned char> readWholeFile(const std::filesystem::path& file)
-{
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) {
-        throw InputError(std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
-    }
-    const uintmax_t size = std::filesystem::file_size(file, ec);
-    if (ec) {
-        throw InputError("cannot read the file size: " + ec.message());
-    }
-    if (size == 0) {
-        throw InputError("the file is empty");
-    }
-    if (size > kMaxFileBytes) {
-        throw InputError("the file is larger than " + std::to_string(kMaxFileBytes >> 20) + " MiB");
-    }
-    std::ifstream in(file, std::ios::binary);
-    std::vector<unsigned char> bytes(static_cast<size_t>(size));
-    if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-        throw InputError("cannot read the file");
-    }
-    return bytes;
-}
 
 uint32_t readLittleEndian32(const unsigned char* p)
 {
@@ -172,7 +149,9 @@ void logLines(const std::filesystem::path& file, std::string_view text)
 
 tinygltf::Model parseGltfFile(const std::filesystem::path& file)
 {
-    const std::vector<unsigned char> bytes = readWholeFile(file);
+    const std::vector<unsigned char> bytes = readFileBytes(file, kMaxFileBytes);
+    if (bytes.empty())
+        throw InputError("the file is empty");
     const bool binary = hasGlbExtension(file) || (bytes.size() >= 4 && readLittleEndian32(bytes.data()) == kGlbMagic);
     if (binary) {
         checkGlbContainer(bytes);

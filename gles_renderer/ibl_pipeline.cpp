@@ -31,18 +31,6 @@ constexpr float kLobeCutoff = 0.01f;
 // shaders_es/rgbm.glsl's range.
 constexpr float kRgbmRange = 16.0f;
 
-bool hasGlExtension(const char* name)
-{
-    GLint count = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-    for (GLint i = 0; i < count; ++i) {
-        const auto* extension = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
-        if (extension && std::strcmp(extension, name) == 0)
-            return true;
-    }
-    return false;
-}
-
 void checkSettings(const IblSettings& s)
 {
     const auto powerOfTwo = [](int v) { return v >= 4 && v <= 1024 && (v & (v - 1)) == 0; };

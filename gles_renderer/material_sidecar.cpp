@@ -14,69 +14,26 @@
 #include <stb_image.h>
 #include <toml++/toml.h>
 
+#include "config/toml_text.h"
 #include "core/error.h"
+#include "core/file_bytes.h"
 #include "core/log.h"
 #include "gles_renderer/lafortune_material.h"
 
 namespace lumar {
 namespace {
 
+using toml_text::formatNumber;
+using toml_text::typeName;
+
 // A sidecar is a few hundred bytes; anything this large is not one.
 constexpr uintmax_t kMaxSidecarBytes = uintmax_t(1) << 20;
 constexpr uintmax_t kMaxTextureFileBytes = uintmax_t(256) << 20;
 constexpr int kMaxTextureSide = 16384;
 
-const char* typeName(const toml::node& node)
-{
-    switch (node.type()) {
-    case toml::node_type::string:
-        return "a string";
-    case toml::node_type::integer:
-        return "an integer";
-    case toml::node_type::floating_point:
-        return "a number";
-    case toml::node_type::boolean:
-        return "a boolean";
-    case toml::node_type::array:
-        return "an array";
-    case toml::node_type::table:
-        return "a table";
-    default:
-        return "a date/time";
-    }
-}
-
-std::string formatNumber(double v)
-{
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
-
 std::string quoteName(std::string_view name)
 {
     return "\"" + std::string(name) + "\"";
-}
-
-std::vector<uint8_t> readFileBytes(const std::filesystem::path& file, uintmax_t limit)
-{
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) {
-        throw InputError(std::filesystem::exists(file, ec) ? "not a regular file" : "no such file");
-    }
-    const uintmax_t size = std::filesystem::file_size(file, ec);
-    if (ec) {
-        throw InputError("cannot read the file size: " + ec.message());
-    }
-    if (size > limit) {
-        throw InputError("the file is larger than " + std::to_string(limit >> 20) + " MiB");
-    }
-    std::vector<uint8_t> bytes(static_cast<size_t>(size));
-    std::ifstream in(file, std::ios::binary);
-    if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-        throw InputError("cannot read the file");
-    }
-    return bytes;
 }
 
 // Any image stb decodes (PNG in practice), as RGBA8; a grey image becomes (g, g, g, 255).

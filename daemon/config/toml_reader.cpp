@@ -7,37 +7,14 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "config/toml_text.h"
 #include "core/error.h"
 
 namespace lumar::config_detail {
 namespace {
 
-const char* typeName(const toml::node& node)
-{
-    switch (node.type()) {
-    case toml::node_type::string:
-        return "a string";
-    case toml::node_type::integer:
-        return "an integer";
-    case toml::node_type::floating_point:
-        return "a number";
-    case toml::node_type::boolean:
-        return "a boolean";
-    case toml::node_type::array:
-        return "an array";
-    case toml::node_type::table:
-        return "a table";
-    default:
-        return "a date/time";
-    }
-}
-
-std::string formatNumber(double v)
-{
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
+using toml_text::formatNumber;
+using toml_text::typeName;
 
 } // namespace
 
