@@ -14,6 +14,11 @@ pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 # MJPEG cameras (decode) and the virtual camera's MJPEG output (encode); Debian 12 has 2.1.5.
 pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET libturbojpeg)
+# libcamera cameras (CSI sensors behind an ISP; UVC through its uvcvideo pipeline); Debian 12
+# has 0.0.3. Its headers are included as system headers: their warnings are not ours to fail
+# the build on (-Wpedantic -Wshadow -Werror).
+pkg_check_modules(LIBCAMERA REQUIRED IMPORTED_TARGET libcamera)
+set_target_properties(PkgConfig::LIBCAMERA PROPERTIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES "${LIBCAMERA_INCLUDE_DIRS}")
 
 # Debian ships OpenCV's CMake package only with the all-modules libopencv-dev (which drags
 # in VTK, Qt and more); we need four modules, so find them one by one.

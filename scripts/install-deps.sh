@@ -11,6 +11,7 @@ packages=(
   libapriltag-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libturbojpeg0-dev v4l-utils
+  libcamera-dev
   libtomlplusplus-dev
   libsystemd-dev
   libgtest-dev googletest

@@ -2,11 +2,13 @@
 
 #include "capture/fake_camera.h"
 #include "capture/image_folder_source.h"
+#include "capture/libcamera/libcamera_source.h"
 #include "capture/reconnecting_source.h"
 #include "capture/v4l2/v4l2_format.h"
 #include "capture/v4l2/v4l2_source.h"
 #include "capture/y4m_source.h"
 #include "core/error.h"
+#include "core/log.h"
 
 namespace lumar {
 
@@ -37,7 +39,23 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
         return std::make_unique<ReconnectingSource>([options] { return std::make_unique<V4l2Source>(options); },
                                                     options.device);
     }
-    throw InputError("camera.source: unknown source '" + config.source + "' (expected fake, y4m, images or v4l2)");
+    if (config.source == "libcamera") {
+        if (!config.controls.empty()) {
+            LUMAR_LOG(Capture, Warn) << "camera.controls apply to v4l2 cameras only; ignored for libcamera";
+        }
+        LibcameraOptions options;
+        options.cameraId = config.device;
+        options.width = config.width;
+        options.height = config.height;
+        options.fps = config.fps;
+        options.bufferCount = config.buffers;
+        options.frameTimeoutMs = config.timeoutMs;
+        // Reopened in place after a disconnect or a hang, like a V4L2 camera.
+        return std::make_unique<ReconnectingSource>([options] { return std::make_unique<LibcameraSource>(options); },
+                                                    "libcamera");
+    }
+    throw InputError("camera.source: unknown source '" + config.source +
+                     "' (expected fake, y4m, images, v4l2 or libcamera)");
 }
 
 } // namespace lumar

@@ -1,5 +1,5 @@
 // The capture stage's narrow interface (DESIGN.md §3). Implementations: the fake camera
-// (synthetic tag scene), file playback (Y4M, image folder); V4L2 and libcamera come later.
+// (synthetic tag scene), file playback (Y4M, image folder), V4L2 and libcamera cameras.
 #pragma once
 
 #include <memory>

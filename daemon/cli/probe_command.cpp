@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "capture/libcamera/libcamera_probe.h"
 #include "capture/v4l2/v4l2_probe.h"
 #include "command_line.h"
 #include "commands.h"
@@ -17,7 +18,8 @@ namespace {
 constexpr const char* kHelp = R"(usage: lumar probe [--device PATH ...]
 
 Lists V4L2 cameras (every /dev/video*, plus each --device) with their pixel formats and frame
-sizes, the EGL/GLES implementation with the extensions lumar uses, and DRM devices.
+sizes, libcamera cameras with their viewfinder formats and sizes, the EGL/GLES implementation
+with the extensions lumar uses, and DRM devices.
 )";
 
 void printCameras(const std::vector<std::string>& devices)
@@ -40,7 +42,35 @@ void printCameras(const std::vector<std::string>& devices)
             std::printf("\n");
         }
     }
-    std::printf("libcamera cameras:\n  not probed: this build has no libcamera backend\n");
+}
+
+void printSizes(const std::vector<FrameSize>& sizes, FrameSize minSize, FrameSize maxSize)
+{
+    for (const FrameSize& size : sizes)
+        std::printf(" %ux%u", size.width, size.height);
+    if (sizes.empty())
+        std::printf(" %ux%u..%ux%u", minSize.width, minSize.height, maxSize.width, maxSize.height);
+}
+
+void printLibcameraCameras()
+{
+    const LibcameraProbeInfo info = probeLibcamera();
+    std::printf("libcamera cameras (%s):\n", info.version.c_str());
+    if (info.cameras.empty())
+        std::printf("  none: %s\n", info.error.c_str());
+    for (const LibcameraCameraInfo& camera : info.cameras) {
+        std::printf("  %s: %s\n", camera.id.c_str(), camera.model.empty() ? "(no model)" : camera.model.c_str());
+        if (!camera.error.empty()) {
+            std::printf("    %s\n", camera.error.c_str());
+            continue;
+        }
+        std::printf("    viewfinder default: %s\n", camera.defaultStream.c_str());
+        for (const LibcameraFormatInfo& format : camera.formats) {
+            std::printf("    %-8s %s", format.pixelFormat.c_str(), format.convertible ? "" : "(not used by lumar) ");
+            printSizes(format.sizes, format.minSize, format.maxSize);
+            std::printf("\n");
+        }
+    }
 }
 
 void printGraphics()
@@ -89,6 +119,7 @@ int probeCommand(const Args& args)
         if (std::find(devices.begin(), devices.end(), device) == devices.end())
             devices.push_back(device);
     printCameras(devices);
+    printLibcameraCameras();
     printGraphics();
     printDisplays();
     return kExitOk;

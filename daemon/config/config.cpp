@@ -97,7 +97,7 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
     if (!table)
         return;
     TableReader r(*table, "camera", ctx.fileName);
-    r.oneOf("source", camera.source, {"fake", "y4m", "images", "v4l2"});
+    r.oneOf("source", camera.source, {"fake", "y4m", "images", "v4l2", "libcamera"});
     r.string("device", camera.device);
     if (camera.device.empty())
         r.fail(r.node("device"), "device", "must not be empty");

@@ -34,11 +34,11 @@ struct CameraControlsConfig {
 };
 
 struct CameraConfig {
-    std::string source = "fake";        // "fake" | "y4m" | "images" | "v4l2"
+    std::string source = "fake";        // "fake" | "y4m" | "images" | "v4l2" | "libcamera"
     std::filesystem::path path;         // y4m file or image folder (source y4m/images)
-    std::string device = "/dev/video0"; // source v4l2: the video device node
-    int timeoutMs = 2000;               // source v4l2: no frame for this long is an error
-    int buffers = 4;                    // source v4l2: MMAP buffers requested
+    std::string device = "/dev/video0"; // v4l2: the device node; libcamera: a camera id (else the first)
+    int timeoutMs = 2000;               // v4l2, libcamera: no frame for this long is an error
+    int buffers = 4;                    // v4l2: MMAP buffers; libcamera: frame buffers requested
     std::string format = "auto";        // source v4l2: "auto" (NV12 > YUYV > MJPEG > GREY) or one of them
     CameraControlsConfig controls;      // source v4l2
     int width = 1280;                   // fake: the size; v4l2: the size requested; files: their own

@@ -1,0 +1,330 @@
+#include "capture/libcamera/libcamera_source.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include <libcamera/camera.h>
+#include <libcamera/camera_manager.h>
+#include <libcamera/control_ids.h>
+#include <libcamera/framebuffer.h>
+#include <libcamera/framebuffer_allocator.h>
+#include <libcamera/request.h>
+#include <libcamera/stream.h>
+#include <time.h>
+
+#include "capture/libcamera/libcamera_frame.h"
+#include "capture/libcamera/libcamera_manager.h"
+#include "capture/reconnecting_source.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace lumar {
+namespace {
+
+// Corrupt frames are logged on the first and then every this many (a camera sending garbage
+// all the time must not flood the journal).
+constexpr uint64_t kCorruptLogEvery = 100;
+
+int64_t monotonicNowNs()
+{
+    timespec now{};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+}
+
+std::string errorText(int negativeErrno)
+{
+    return std::strerror(-negativeErrno);
+}
+
+} // namespace
+
+LibcameraSource::LibcameraSource(LibcameraOptions options) : options_(std::move(options))
+{
+    try {
+        open();
+    } catch (...) {
+        // The destructor does not run for a half-built object: undo in libcamera's order here.
+        shutdown();
+        throw;
+    }
+}
+
+LibcameraSource::~LibcameraSource()
+{
+    shutdown();
+}
+
+void LibcameraSource::open()
+{
+    manager_ = acquireCameraManager();
+    selectCamera();
+    configureStream();
+    allocateBuffers();
+    start();
+}
+
+void LibcameraSource::selectCamera()
+{
+    const std::vector<std::shared_ptr<libcamera::Camera>> cameras = manager_->cameras();
+    if (cameras.empty()) {
+        throw CameraUnavailable(noLibcameraCamerasMessage());
+    }
+    for (const auto& camera : cameras) {
+        if (camera->id() == options_.cameraId) {
+            camera_ = camera;
+        }
+    }
+    if (!camera_) {
+        camera_ = cameras.front();
+        LUMAR_LOG(Capture, Info) << "libcamera: camera.device '" << options_.cameraId
+                                 << "' is no libcamera camera id; using the first camera";
+    }
+    cameraId_ = camera_->id();
+    if (const int error = camera_->acquire(); error != 0) {
+        throw CameraUnavailable("libcamera: camera " + cameraId_ + " cannot be acquired: " + errorText(error) +
+                                (error == -EBUSY ? " (another process is using it)" : ""));
+    }
+    acquired_ = true;
+    camera_->disconnected.connect(this, &LibcameraSource::onDisconnected);
+}
+
+void LibcameraSource::configureStream()
+{
+    configuration_ = camera_->generateConfiguration({libcamera::StreamRole::Viewfinder});
+    if (!configuration_ || configuration_->empty()) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + " offers no viewfinder stream");
+    }
+    libcamera::StreamConfiguration& stream = configuration_->at(0);
+    const libcamera::PixelFormat format = chooseLibcameraFormat(stream.formats().pixelformats());
+    if (!format.isValid()) {
+        std::string offered;
+        for (const libcamera::PixelFormat& f : stream.formats().pixelformats()) {
+            offered += (offered.empty() ? "" : ", ") + f.toString();
+        }
+        throw RuntimeError("libcamera: camera " + cameraId_ + " has no viewfinder format lumar converts (offers " +
+                           (offered.empty() ? "none" : offered) + "; lumar converts NV12, YUYV)");
+    }
+    stream.pixelFormat = format;
+    stream.size = libcamera::Size(unsigned(std::max(options_.width, 1)), unsigned(std::max(options_.height, 1)));
+    stream.bufferCount = unsigned(std::max(options_.bufferCount, 2));
+    const std::string requested = stream.toString();
+    switch (configuration_->validate()) {
+    case libcamera::CameraConfiguration::Invalid:
+        throw RuntimeError("libcamera: camera " + cameraId_ + " rejects the configuration " + requested);
+    case libcamera::CameraConfiguration::Adjusted:
+        LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": configuration adjusted from " << requested
+                                 << " to " << stream.toString();
+        break;
+    case libcamera::CameraConfiguration::Valid:
+        break;
+    }
+    if (const int error = camera_->configure(configuration_.get()); error != 0) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + " cannot be configured as " + stream.toString() + ": " +
+                           errorText(error));
+    }
+    // validate() may have replaced the format or size; what it settled on is what we read.
+    const LibcameraLayout layout{stream.pixelFormat, int(stream.size.width), int(stream.size.height), stream.stride};
+    if (!isConvertibleLibcameraFormat(layout.format)) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + " replaced " + format.toString() + " by " +
+                           layout.format.toString() + ", which lumar does not convert");
+    }
+    stream_ = stream.stream();
+    width_ = layout.width;
+    height_ = layout.height;
+    stride_ = layout.stride;
+    pixelFormat_ = layout.format.fourcc();
+    converter_ = YCbCrConverter(colorimetryOfColorSpace(stream.colorSpace));
+    LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": " << stream.toString() << ", colour space "
+                             << libcamera::ColorSpace::toString(stream.colorSpace)
+                             << (stream.colorSpace ? "" : " (assuming BT.601 limited range)");
+}
+
+void LibcameraSource::allocateBuffers()
+{
+    allocator_ = std::make_unique<libcamera::FrameBufferAllocator>(camera_);
+    const int allocated = allocator_->allocate(stream_);
+    if (allocated < 0) {
+        throw RuntimeError("libcamera: camera " + cameraId_ +
+                           ": cannot allocate frame buffers: " + errorText(allocated));
+    }
+    const LibcameraLayout layout{libcamera::PixelFormat(pixelFormat_), width_, height_, stride_};
+    for (const std::unique_ptr<libcamera::FrameBuffer>& buffer : allocator_->buffers(stream_)) {
+        // Mapped once here, for the stream's life: no mmap per frame.
+        DmabufMapping mapping(*buffer);
+        if (const std::string problem = checkMappedImage(mapping, layout); !problem.empty()) {
+            throw RuntimeError("libcamera: camera " + cameraId_ + ": unusable frame buffer: " + problem);
+        }
+        mappings_.emplace(buffer.get(), std::move(mapping));
+
+        std::unique_ptr<libcamera::Request> request = camera_->createRequest();
+        if (!request) {
+            throw RuntimeError("libcamera: camera " + cameraId_ + ": cannot create a request");
+        }
+        if (const int error = request->addBuffer(stream_, buffer.get()); error != 0) {
+            throw RuntimeError("libcamera: camera " + cameraId_ +
+                               ": cannot attach a buffer to a request: " + errorText(error));
+        }
+        requests_.push_back(std::move(request));
+    }
+    if (requests_.size() < 2) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + ": " + std::to_string(requests_.size()) +
+                           " frame buffer(s) allocated; streaming needs at least 2");
+    }
+}
+
+void LibcameraSource::start()
+{
+    camera_->requestCompleted.connect(this, &LibcameraSource::onRequestCompleted);
+    libcamera::ControlList controls(camera_->controls());
+    fps_ = options_.fps;
+    if (options_.fps > 0.0 && camera_->controls().count(&libcamera::controls::FrameDurationLimits) != 0) {
+        // A fixed frame duration (minimum = maximum), in microseconds.
+        const auto frameUs = int64_t(std::lround(1e6 / options_.fps));
+        controls.set(libcamera::controls::FrameDurationLimits, {frameUs, frameUs});
+    }
+    if (const int error = camera_->start(&controls); error != 0) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + " fails to start: " + errorText(error));
+    }
+    started_ = true;
+    for (const std::unique_ptr<libcamera::Request>& request : requests_) {
+        if (const int error = camera_->queueRequest(request.get()); error != 0) {
+            throw RuntimeError("libcamera: camera " + cameraId_ + ": cannot queue a request: " + errorText(error));
+        }
+    }
+}
+
+void LibcameraSource::shutdown() noexcept
+{
+    if (started_) {
+        // Synchronous: pending requests complete (cancelled) before it returns, so no
+        // completion can arrive after the disconnect below.
+        camera_->stop();
+        started_ = false;
+    }
+    if (camera_) {
+        camera_->requestCompleted.disconnect(this);
+        camera_->disconnected.disconnect(this);
+    }
+    {
+        const std::lock_guard lock(mutex_);
+        completed_.clear();
+    }
+    requests_.clear();
+    mappings_.clear(); // unmapped before the allocator frees the dmabufs
+    allocator_.reset();
+    configuration_.reset();
+    if (acquired_) {
+        camera_->release();
+        acquired_ = false;
+    }
+    camera_.reset();
+    stream_ = nullptr;
+    manager_.reset(); // last: stops the manager when no one else holds it
+}
+
+void LibcameraSource::onRequestCompleted(libcamera::Request* request)
+{
+    {
+        const std::lock_guard lock(mutex_);
+        completed_.push_back(request);
+    }
+    completedChanged_.notify_one();
+}
+
+void LibcameraSource::onDisconnected()
+{
+    {
+        const std::lock_guard lock(mutex_);
+        disconnected_ = true;
+    }
+    completedChanged_.notify_one();
+}
+
+libcamera::Request* LibcameraSource::waitForRequest(std::chrono::steady_clock::time_point deadline)
+{
+    std::unique_lock lock(mutex_);
+    completedChanged_.wait_until(lock, deadline, [this] { return disconnected_ || !completed_.empty(); });
+    if (disconnected_) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + " disconnected");
+    }
+    if (completed_.empty()) {
+        return nullptr;
+    }
+    libcamera::Request* request = completed_.front();
+    completed_.pop_front();
+    return request;
+}
+
+void LibcameraSource::requeue(libcamera::Request* request)
+{
+    request->reuse(libcamera::Request::ReuseBuffers);
+    if (const int error = camera_->queueRequest(request); error != 0) {
+        throw RuntimeError("libcamera: camera " + cameraId_ + ": cannot queue a request again: " + errorText(error));
+    }
+}
+
+bool LibcameraSource::next(Frame& frame)
+{
+    // One deadline for the whole call, so a camera sending only corrupt frames times out like
+    // a silent one.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.frameTimeoutMs);
+    const LibcameraLayout layout{libcamera::PixelFormat(pixelFormat_), width_, height_, stride_};
+    const uint64_t corruptAtStart = framesCorrupt_;
+    for (;;) {
+        libcamera::Request* request = waitForRequest(deadline);
+        if (request == nullptr) {
+            std::ostringstream seconds;
+            seconds << options_.frameTimeoutMs / 1000.0;
+            throw RuntimeError("libcamera: camera " + cameraId_ + ": no frame for " + seconds.str() + " s" +
+                               (framesCorrupt_ > corruptAtStart ? " (only corrupt ones)" : ""));
+        }
+        if (request->status() == libcamera::Request::RequestCancelled) {
+            continue; // only while stopping; the request is not ours to queue again then
+        }
+        libcamera::FrameBuffer* buffer = request->findBuffer(stream_);
+        const auto mapping = buffer != nullptr ? mappings_.find(buffer) : mappings_.end();
+        if (mapping == mappings_.end()) {
+            throw RuntimeError("libcamera: camera " + cameraId_ + " completed a request without our buffer");
+        }
+        const libcamera::FrameMetadata& metadata = buffer->metadata();
+        if (lastSequence_ && metadata.sequence > *lastSequence_ + 1) {
+            const uint32_t gap = metadata.sequence - *lastSequence_ - 1;
+            framesDropped_ += gap;
+            LUMAR_LOG(Capture, Warn) << "libcamera: " << cameraId_ << ": " << gap
+                                     << " frame(s) dropped before sequence " << metadata.sequence << " ("
+                                     << framesDropped_ << " in all)";
+        }
+        lastSequence_ = metadata.sequence;
+        size_t bytesUsed = 0;
+        for (const libcamera::FrameMetadata::Plane& plane : metadata.planes()) {
+            bytesUsed += plane.bytesused;
+        }
+        if (metadata.status != libcamera::FrameMetadata::FrameSuccess || bytesUsed < imageBytes(layout)) {
+            ++framesCorrupt_;
+            if (framesCorrupt_ == 1 || framesCorrupt_ % kCorruptLogEvery == 0) {
+                LUMAR_LOG(Capture, Warn) << "libcamera: " << cameraId_ << ": frame " << metadata.sequence
+                                         << " is corrupt (" << bytesUsed << " of " << imageBytes(layout)
+                                         << " bytes, status " << int(metadata.status) << "); skipped ("
+                                         << framesCorrupt_ << " corrupt in all, logged every " << kCorruptLogEvery
+                                         << ")";
+            }
+            requeue(request);
+            continue;
+        }
+        convertLibcameraImage(mapping->second, layout, converter_, frame);
+        frame.sequence = metadata.sequence;
+        // The sensor's start-of-exposure time (CLOCK_MONOTONIC) where the pipeline reports it,
+        // else the buffer's completion time, which is on the same clock.
+        const std::optional<int64_t> sensorNs = request->metadata().get(libcamera::controls::SensorTimestamp);
+        frame.timestampNs = sensorNs                  ? *sensorNs
+                            : metadata.timestamp != 0 ? int64_t(metadata.timestamp)
+                                                      : monotonicNowNs();
+        requeue(request);
+        return true;
+    }
+}
+
+} // namespace lumar
