@@ -1,5 +1,6 @@
-// solveTagPose: one square tag's pose with OpenCV's IPPE_SQUARE solver, refined with
-// Levenberg-Marquardt on the reprojection error.
+// solveTagPose: one square tag's pose with OpenCV's IPPE_SQUARE solver (both of its
+// solutions), each refined with Levenberg-Marquardt on the reprojection error, the choice
+// between them made by error ratio and, when ambiguous, by the tag's previous pose.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,6 +18,13 @@ namespace {
 // A pose whose corners reproject worse than this is not the tag we saw: the corners were
 // not a planar square (a false detection) or the solver ended in a wrong minimum.
 constexpr double kMaxReprojectionRmsPx = 4.0;
+
+// Two refined solutions this close (rotation entries, relative translation) are one.
+constexpr double kSameSolution = 1e-6;
+
+// A quad smaller than 4x4 px cannot hold a decoded code (the smallest family needs 8 cells
+// a side) and its corners' noise would be a large fraction of its side: no usable pose.
+constexpr double kMinQuadAreaPx2 = 16.0;
 
 // OpenCV's default stops LM once a step changes the parameters by less than FLT_EPSILON,
 // which leaves up to 1e-4 px on exact corners; four points converge in a few more steps.
@@ -113,28 +121,13 @@ struct Solution {
     double rms = 0.0;
 };
 
-// IPPE in one solver frame, then LM refinement of the reprojection error through the full
-// distortion model (IPPE alone undistorts the corners with a few fixed-point iterations).
-// Throws cv::Exception for degenerate corners.
-bool solveInFrame(const SolverFrame& frame, const std::array<glm::dvec2, 4>& corners, double tagSize,
-                  const cv::Matx33d& cameraMatrix, const std::vector<double>& distortion, Solution& out)
+// Refines one IPPE solution (rvec/tvec in the solver frame) with Levenberg-Marquardt on the
+// reprojection error through the full distortion model (IPPE alone undistorts the corners
+// with a few fixed-point iterations) and converts it to camera_from_marker.
+bool refineSolution(const SolverFrame& frame, const std::vector<cv::Point3d>& objectPoints,
+                    const std::vector<cv::Point2d>& imagePoints, const cv::Matx33d& cameraMatrix,
+                    const std::vector<double>& distortion, cv::Vec3d rvec, cv::Vec3d tvec, Solution& out)
 {
-    const double h = 0.5 * tagSize;
-    std::vector<cv::Point3d> objectPoints(4);
-    std::vector<cv::Point2d> imagePoints(4);
-    for (int j = 0; j < 4; ++j)
-        objectPoints[size_t(j)] = {kIppeCornerSigns[j][0] * h, kIppeCornerSigns[j][1] * h, 0.0};
-    for (int i = 0; i < 4; ++i) {
-        const auto j = size_t(frame.ippeIndexOf(i));
-        imagePoints[j] = {corners[size_t(i)].x, corners[size_t(i)].y};
-    }
-
-    cv::Vec3d rvec;
-    cv::Vec3d tvec;
-    // Distortion goes to the solver, which undistorts the four corners; the image itself is
-    // never undistorted (DESIGN.md §5).
-    if (!cv::solvePnP(objectPoints, imagePoints, cameraMatrix, distortion, rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE))
-        return false;
     if (!std::isfinite(rvec[0]) || !std::isfinite(rvec[1]) || !std::isfinite(rvec[2]))
         return false;
     double rms = reprojectionRms(objectPoints, imagePoints, rvec, tvec, cameraMatrix, distortion);
@@ -157,27 +150,125 @@ bool solveInFrame(const SolverFrame& frame, const std::array<glm::dvec2, 4>& cor
     return std::isfinite(rms) && allFinite(out.R, out.t);
 }
 
+// Both IPPE solutions in one solver frame, each refined; `count` of them are valid, the
+// first always the one with the lower error. Throws cv::Exception for degenerate corners.
+bool solveInFrame(const SolverFrame& frame, const std::array<glm::dvec2, 4>& corners, double tagSize,
+                  const cv::Matx33d& cameraMatrix, const std::vector<double>& distortion,
+                  std::array<Solution, 2>& solutions, int& count)
+{
+    const double h = 0.5 * tagSize;
+    std::vector<cv::Point3d> objectPoints(4);
+    std::vector<cv::Point2d> imagePoints(4);
+    for (int j = 0; j < 4; ++j)
+        objectPoints[size_t(j)] = {kIppeCornerSigns[j][0] * h, kIppeCornerSigns[j][1] * h, 0.0};
+    for (int i = 0; i < 4; ++i) {
+        const auto j = size_t(frame.ippeIndexOf(i));
+        imagePoints[j] = {corners[size_t(i)].x, corners[size_t(i)].y};
+    }
+
+    // Distortion goes to the solver, which undistorts the four corners; the image itself is
+    // never undistorted (DESIGN.md §5).
+    std::vector<cv::Mat> rvecs;
+    std::vector<cv::Mat> tvecs;
+    const int found = cv::solvePnPGeneric(objectPoints, imagePoints, cameraMatrix, distortion, rvecs, tvecs, false,
+                                          cv::SOLVEPNP_IPPE_SQUARE);
+    count = 0;
+    for (int i = 0; i < found && i < 2; ++i) {
+        const cv::Vec3d rvec(rvecs[size_t(i)].reshape(1, 3));
+        const cv::Vec3d tvec(tvecs[size_t(i)].reshape(1, 3));
+        Solution s;
+        // A NaN in the better solution means this frame hit the solver's singular case.
+        if (!refineSolution(frame, objectPoints, imagePoints, cameraMatrix, distortion, rvec, tvec, s))
+            return i > 0;
+        solutions[size_t(count++)] = s;
+    }
+    if (count == 2 && solutions[1].rms < solutions[0].rms)
+        std::swap(solutions[0], solutions[1]);
+    // Refinement can carry IPPE's second solution into the first one's minimum (the second
+    // was no minimum of the full error): then there is one solution, not an ambiguity.
+    if (count == 2 && cv::norm(solutions[0].R - solutions[1].R, cv::NORM_INF) < kSameSolution &&
+        cv::norm(solutions[0].t - solutions[1].t) < kSameSolution * cv::norm(solutions[0].t))
+        count = 1;
+    return count > 0;
+}
+
+Pose toPose(const Solution& s)
+{
+    Pose pose;
+    // cv::Matx is row-major, glm column-major.
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col)
+            pose.R[col][row] = s.R(row, col);
+    pose.t = {s.t[0], s.t[1], s.t[2]};
+    return pose;
+}
+
+// Angle of the rotation between `a` and `b`, radians.
+double rotationDistance(const glm::dmat3& a, const glm::dmat3& b)
+{
+    const glm::dmat3 d = glm::transpose(a) * b;
+    return std::acos(std::clamp((d[0][0] + d[1][1] + d[2][2] - 1.0) / 2.0, -1.0, 1.0));
+}
+
+// Not a pose of what we saw: a tag behind the camera (every corner must lie in front of it,
+// not only the centre), or a tag seen from its back (the camera must be on the side its +z
+// points to; a printed tag cannot be decoded from behind, so this means mirrored, clockwise
+// corners).
+bool plausible(const Solution& s, double tagSize)
+{
+    const double h = 0.5 * tagSize;
+    if (s.t[2] <= 0.0)
+        return false;
+    for (const auto& sign : kMarkerCornerSigns)
+        if ((s.R * cv::Vec3d(sign[0] * h, sign[1] * h, 0.0) + s.t)[2] <= 0.0)
+            return false;
+    const cv::Vec3d markerNormal(s.R(0, 2), s.R(1, 2), s.R(2, 2));
+    return markerNormal.dot(s.t) < 0.0;
+}
+
+// The image of a square in front of a camera is a convex quad (a central projection keeps
+// convexity on the visible side); a crossed or dented quad is no tag. Returns the absolute
+// area, or 0 for a non-convex quad.
+double convexQuadArea(const std::array<glm::dvec2, 4>& p)
+{
+    double area = 0.0;
+    int positive = 0, negative = 0;
+    for (size_t i = 0; i < 4; ++i) {
+        const glm::dvec2 a = p[(i + 1) % 4] - p[i];
+        const glm::dvec2 b = p[(i + 2) % 4] - p[(i + 1) % 4];
+        const double turn = a.x * b.y - a.y * b.x;
+        (turn > 0.0 ? positive : negative) += 1;
+        area += p[i].x * p[(i + 1) % 4].y - p[(i + 1) % 4].x * p[i].y;
+    }
+    return positive == 4 || negative == 4 ? 0.5 * std::abs(area) : 0.0;
+}
+
 } // namespace
 
 bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, const CameraIntrinsics& intrinsics,
-                  Pose& cameraFromMarker, double& rmsErrorPx)
+                  TagPoseSolution& out, const Pose* previous)
 {
     if (!(tagSize > 0.0) || !std::isfinite(tagSize))
         return false;
     for (const glm::dvec2& c : corners)
         if (!std::isfinite(c.x) || !std::isfinite(c.y))
             return false;
+    const double area = convexQuadArea(corners);
+    if (area < kMinQuadAreaPx2)
+        return false;
 
     const cv::Matx33d cameraMatrix(intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0, 0.0, 1.0);
     const std::vector<double> distortion(intrinsics.distortion.begin(), intrinsics.distortion.end());
 
-    Solution best;
+    std::array<Solution, 2> solutions;
+    int count = 0;
     bool found = false;
     // The preferred frame almost always works; the next one is a fallback for the rare
     // exact-identity case where the solver's acos((trace - 1) / 2) sees a trace just above 3.
     for (int quarterTurns : quarterTurnPreference(corners)) {
         try {
-            found = solveInFrame(SolverFrame{quarterTurns}, corners, tagSize, cameraMatrix, distortion, best);
+            found =
+                solveInFrame(SolverFrame{quarterTurns}, corners, tagSize, cameraMatrix, distortion, solutions, count);
         } catch (const cv::Exception& e) {
             // Degenerate corners (collinear, coincident) make the solver's maths fail.
             LUMAR_LOG(Tracking, Debug) << "solvePnP failed: " << e.err;
@@ -189,28 +280,52 @@ bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, cons
     if (!found)
         return false;
 
-    // Not a pose of what we saw: a tag behind the camera (every corner must lie in front of
-    // it, not only the centre), a tag seen from its back (the camera must be on the side its
-    // +z points to; a printed tag cannot be decoded from behind, so this means mirrored,
-    // clockwise corners), or corners that reproject badly.
-    const double h = 0.5 * tagSize;
-    if (best.t[2] <= 0.0)
-        return false;
-    for (const auto& s : kMarkerCornerSigns)
-        if ((best.R * cv::Vec3d(s[0] * h, s[1] * h, 0.0) + best.t)[2] <= 0.0)
+    // Only plausible solutions compete (the second is often a tag seen from behind).
+    if (count == 2 && !plausible(solutions[1], tagSize))
+        count = 1;
+    if (!plausible(solutions[0], tagSize)) {
+        if (count < 2)
             return false;
-    const cv::Vec3d markerNormal(best.R(0, 2), best.R(1, 2), best.R(2, 2));
-    if (markerNormal.dot(best.t) >= 0.0)
-        return false;
-    if (best.rms > kMaxReprojectionRmsPx)
+        solutions[0] = solutions[1];
+        count = 1;
+    }
+
+    // Each refined solution is a local minimum of the same error; the ratio says how clearly
+    // the better one wins. Exact corners leave the better one at ~1e-12 px, hence the floor.
+    double ratio = kMaxAmbiguityRatio;
+    if (count == 2)
+        ratio = std::min(kMaxAmbiguityRatio, solutions[1].rms / std::max(solutions[0].rms, 1e-9));
+    size_t chosen = 0;
+    if (count == 2 && ratio < kAmbiguousRatio && previous) {
+        const double d0 = rotationDistance(toPose(solutions[0]).R, previous->R);
+        const double d1 = rotationDistance(toPose(solutions[1]).R, previous->R);
+        if (d1 < d0)
+            chosen = 1;
+    }
+
+    // A projected square with 4 corners leaves 2 degrees of freedom to the residual, so its
+    // RMS is about half the corner noise: a fraction of a pixel for a real tag. 5 % of the
+    // side (at least 1 px, at most 4 px) rejects quads that are no square (false detections)
+    // without rejecting a blurred tag whose corners are off by a pixel or two.
+    const double maxRms = std::clamp(0.05 * std::sqrt(area), 1.0, kMaxReprojectionRmsPx);
+    if (solutions[chosen].rms > maxRms)
         return false;
 
-    // cv::Matx is row-major, glm column-major.
-    for (int row = 0; row < 3; ++row)
-        for (int col = 0; col < 3; ++col)
-            cameraFromMarker.R[col][row] = best.R(row, col);
-    cameraFromMarker.t = {best.t[0], best.t[1], best.t[2]};
-    rmsErrorPx = best.rms;
+    out.cameraFromMarker = toPose(solutions[chosen]);
+    out.rmsErrorPx = solutions[chosen].rms;
+    out.ambiguityRatio = ratio;
+    out.choseByPrevious = chosen == 1;
+    return true;
+}
+
+bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, const CameraIntrinsics& intrinsics,
+                  Pose& cameraFromMarker, double& rmsErrorPx)
+{
+    TagPoseSolution solution;
+    if (!solveTagPose(corners, tagSize, intrinsics, solution))
+        return false;
+    cameraFromMarker = solution.cameraFromMarker;
+    rmsErrorPx = solution.rmsErrorPx;
     return true;
 }
 

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "tracking/apriltag_family.h"
+#include "tracking/tag_map.h"
 
 namespace lumar {
 namespace {
@@ -23,6 +24,9 @@ struct DetectionsDeleter {
     void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
 };
 using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
+
+// A tag's last pose older than this many frames says little about its orientation now.
+constexpr uint64_t kPreviousPoseFrames = 15;
 
 // Below this the library's 4x4 threshold tiles degenerate, and no tag fits anyway.
 constexpr int kMinImageSide = 8;
@@ -78,6 +82,7 @@ struct TagTracker::Impl {
     DetectorPtr detector;
     CameraIntrinsics intrinsics;
     TagSizes sizes;
+    std::vector<TagMap> maps;
     bool copyInput = false;
     std::vector<uint8_t> scratch; // the copy the library may modify, reused every frame
     // Region-of-interest search around the last detections (DESIGN.md §5).
@@ -86,6 +91,17 @@ struct TagTracker::Impl {
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
     std::vector<TagDetection> last;
+
+    // The last pose of each tag id, to choose between IPPE's two solutions when they tie.
+    struct LastPose {
+        Pose pose;
+        uint64_t frame = 0;
+    };
+    std::map<int, LastPose> lastPoses;
+    uint64_t frameCount = 0;
+
+    // Solves the pose of every detection whose size is known.
+    void solvePoses(std::vector<TagDetection>& detections);
 
     // Detects in the rectangle [x0, x1) x [y0, y1) of `pixels` (row stride `stride`) and
     // appends to `out` with corners in full-image coordinates.
@@ -193,6 +209,35 @@ TagTracker::~TagTracker() = default;
 TagTracker::TagTracker(TagTracker&&) noexcept = default;
 TagTracker& TagTracker::operator=(TagTracker&&) noexcept = default;
 
+void TagTracker::setMaps(std::vector<TagMap> maps)
+{
+    for (const TagMap& map : maps)
+        for (const TagMapTag& tag : map.tags) {
+            if (!(std::isfinite(tag.size) && tag.size > 0.0))
+                throw InputError("tracking: map '" + map.name + "': tag " + std::to_string(tag.id) +
+                                 " needs a positive size");
+            const auto [it, inserted] = impl_->sizes.byId.try_emplace(tag.id, tag.size);
+            if (!inserted && it->second != tag.size)
+                throw InputError("tracking: map '" + map.name + "': tag " + std::to_string(tag.id) + " has size " +
+                                 std::to_string(tag.size) + " but is also known with size " +
+                                 std::to_string(it->second));
+        }
+    impl_->maps = std::move(maps);
+}
+
+std::vector<MapDetection> TagTracker::detectMaps(const std::vector<TagDetection>& detections) const
+{
+    std::vector<MapDetection> result;
+    for (size_t i = 0; i < impl_->maps.size(); ++i) {
+        MapDetection map;
+        if (solveMapPose(impl_->maps[i], detections, impl_->intrinsics, map)) {
+            map.index = int(i);
+            result.push_back(std::move(map));
+        }
+    }
+    return result;
+}
+
 const CameraIntrinsics& TagTracker::intrinsics() const
 {
     return impl_->intrinsics;
@@ -236,8 +281,36 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         impl_->detectIn(pixels, luma.width, 0, 0, luma.width, luma.height, result);
     }
     sortDetections(result);
+    impl_->solvePoses(result);
     impl_->last = result;
     return result;
+}
+
+void TagTracker::Impl::solvePoses(std::vector<TagDetection>& detections)
+{
+    ++frameCount;
+    for (size_t i = 0; i < detections.size(); ++i) {
+        TagDetection& d = detections[i];
+        const double size = sizes.of(d.id);
+        if (!(size > 0.0))
+            continue;
+        // An id seen twice in one frame has no single previous pose (detections are sorted).
+        const bool unique =
+            (i == 0 || detections[i - 1].id != d.id) && (i + 1 == detections.size() || detections[i + 1].id != d.id);
+        const auto previous = unique ? lastPoses.find(d.id) : lastPoses.end();
+        const bool recent = previous != lastPoses.end() && frameCount - previous->second.frame <= kPreviousPoseFrames;
+        TagPoseSolution solution;
+        d.hasPose = solveTagPose(d.corners, size, intrinsics, solution, recent ? &previous->second.pose : nullptr);
+        if (!d.hasPose) {
+            LUMAR_LOG(Tracking, Debug) << "tag " << d.id << ": no plausible pose";
+            continue;
+        }
+        d.cameraFromMarker = solution.cameraFromMarker;
+        d.reprojectionErrorPx = solution.rmsErrorPx;
+        d.ambiguityRatio = solution.ambiguityRatio;
+        if (unique)
+            lastPoses[d.id] = {d.cameraFromMarker, frameCount};
+    }
 }
 
 void TagTracker::Impl::detectIn(uint8_t* pixels, int stride, int x0, int y0, int x1, int y1,
@@ -260,13 +333,6 @@ void TagTracker::Impl::detectIn(uint8_t* pixels, int stride, int x0, int y0, int
         // The library's pixel (0,0) covers [0,1]^2, ours [-0.5,0.5]^2 (DESIGN.md §5).
         for (int c = 0; c < 4; ++c)
             d.corners[size_t(c)] = {det->p[c][0] - 0.5 + x0, det->p[c][1] - 0.5 + y0};
-        const double size = sizes.of(d.id);
-        if (size > 0.0) {
-            d.hasPose = solveTagPose(d.corners, size, intrinsics, d.cameraFromMarker, d.reprojectionErrorPx);
-            if (!d.hasPose) {
-                LUMAR_LOG(Tracking, Debug) << "tag " << d.id << ": no plausible pose";
-            }
-        }
         out.push_back(d);
     }
 }

@@ -26,7 +26,15 @@ struct TagDetection {
     bool hasPose = false; // false when the tag's size is unknown or PnP failed
     Pose cameraFromMarker;
     double reprojectionErrorPx = 0.0; // RMS over the four corners
+    // IPPE's two solutions: reprojection RMS of the worse over the better one (>= 1, capped
+    // at kMaxAmbiguityRatio). Below kAmbiguousRatio the tag's orientation is ambiguous (small
+    // or facing the camera squarely) and the solution closest to the last pose was taken.
+    double ambiguityRatio = 0.0;
 };
+
+// Error ratios below this leave the choice between IPPE's two solutions to the last pose.
+inline constexpr double kAmbiguousRatio = 1.5;
+inline constexpr double kMaxAmbiguityRatio = 1e6;
 
 // Tag side lengths in metres by id; `fallback` (0: none) for ids not listed.
 struct TagSizes {
@@ -38,6 +46,9 @@ struct TagSizes {
         return it != byId.end() ? it->second : fallback;
     }
 };
+
+struct TagMap;       // tracking/tag_map.h
+struct MapDetection; // tracking/tag_map.h
 
 class TagTracker {
 public:
@@ -52,6 +63,12 @@ public:
     // Detects tags in an 8-bit single-channel image; detections sorted by id.
     [[nodiscard]] std::vector<TagDetection> detect(const Image8& luma);
 
+    // Multi-tag maps (tracking/tag_map.h). Their tags' sizes join the per-tag sizes, so
+    // detect() gives each a pose; throws InputError for a size that contradicts a known one.
+    void setMaps(std::vector<TagMap> maps);
+    // The maps seen in `detections` (detect()'s result), in setMaps' order.
+    [[nodiscard]] std::vector<MapDetection> detectMaps(const std::vector<TagDetection>& detections) const;
+
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
 
 private:
@@ -59,8 +76,21 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Pose of a square tag from its four corners (OpenCV pixel convention, AprilTag order).
-// Returns false for a degenerate or failed solution. Exposed for tests.
+struct TagPoseSolution {
+    Pose cameraFromMarker;
+    double rmsErrorPx = 0.0;
+    double ambiguityRatio = 0.0;  // see TagDetection
+    bool choseByPrevious = false; // ambiguous, and the previous pose picked the other solution
+};
+
+// Pose of a square tag from its four corners (OpenCV pixel convention, AprilTag order):
+// both IPPE solutions, each refined, the one with the lower reprojection error taken unless
+// the ratio is below kAmbiguousRatio and `previous` (the same tag's last pose) is closer in
+// rotation to the other. Returns false for a degenerate or failed solution (a tag behind
+// the camera or seen from its back, a quad that is tiny or not convex, corners that do not
+// reproject as a square). Exposed for tests.
+bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, const CameraIntrinsics& intrinsics,
+                  TagPoseSolution& out, const Pose* previous = nullptr);
 bool solveTagPose(const std::array<glm::dvec2, 4>& corners, double tagSize, const CameraIntrinsics& intrinsics,
                   Pose& cameraFromMarker, double& rmsErrorPx);
 
