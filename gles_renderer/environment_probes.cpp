@@ -151,7 +151,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
         // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
         frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 0.0f);
-        meshes.draw(frame, models, faceItems_, faceMaps_);
+        meshes.draw(frame, models, faceItems_, faceMaps_, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Proxy);
     });
     finishIf(profile);
     stats.environmentMapsMs += millisecondsSince(start);

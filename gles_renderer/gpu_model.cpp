@@ -10,10 +10,15 @@
 #include "gles_renderer/gl_check.h"
 #include "gles_renderer/gpu_texture.h"
 #include "gles_renderer/lafortune_material.h"
+#include "gles_renderer/mesh_simplify.h"
 #include "gles_renderer/uniform_blocks.h"
 
 namespace lumar {
 namespace {
+
+// Grid cells along a model's longest side for its environment-map stand-in: a neighbour in
+// a 64-pixel face rarely spans more pixels than that.
+constexpr int kProxyCellsAlongModel = 48;
 
 struct Vertex {
     glm::vec3 position;
@@ -190,6 +195,9 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
     for (const GltfPrimitive& primitive : model.primitives)
         if (!primitive.indices.empty())
             gpu.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    for (const GltfPrimitive& primitive : makeProxyModel(model, kProxyCellsAlongModel).primitives)
+        if (!primitive.indices.empty())
+            gpu.proxyPrimitives.push_back(uploadPrimitive(primitive, defaultMaterial));
     checkGlError("uploading a model");
     return gpu;
 }

@@ -46,6 +46,9 @@ struct GpuModel {
     std::vector<GlTexture> textures;            // parallel to GltfModel::textures; unused ones stay empty
     std::vector<GpuMaterial> materials;         // the model's materials, then glTF's default material
     std::vector<GpuPrimitive> primitives;
+    // The same model simplified by vertex clustering (mesh_simplify.h), drawn into the
+    // environment maps where it spans tens of pixels; same materials.
+    std::vector<GpuPrimitive> proxyPrimitives;
 };
 
 // Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.

@@ -100,7 +100,7 @@ MeshPass::MeshPass()
 }
 
 void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms) const
+                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail) const
 {
     if (items.empty())
         return;
@@ -120,7 +120,7 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         for (size_t i = 0; i < items.size(); ++i)
             if (int(i) != skip && items[i].phantom)
-                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1);
+                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1, detail);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     // Nearest first: the depth test then rejects hidden fragments before they are shaded.
@@ -132,7 +132,7 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     StateCache state;
     glUseProgram(program_.name());
     for (const auto& [depth, i] : order_)
-        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_);
+        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail);
     glBindVertexArray(0);
 }
 
@@ -144,13 +144,14 @@ double MeshPass::centreDepth(const DrawItem& item, const std::vector<GpuModel>& 
 }
 
 void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
-                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation) const
+                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation,
+                        Detail detail) const
 {
     const bool shaded = normalFromMeshLocation >= 0;
     if (shaded)
         state.bindMaps(maps);
     const GpuModel& model = models[size_t(item.model)];
-    for (const GpuPrimitive& primitive : model.primitives) {
+    for (const GpuPrimitive& primitive : detail == Detail::Proxy ? model.proxyPrimitives : model.primitives) {
         // Composed in double precision: model matrices may carry large translations.
         const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
         const glm::dmat3 linear(cameraFromMesh);

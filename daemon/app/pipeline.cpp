@@ -97,6 +97,10 @@ Pipeline::Pipeline(const Config& config, bool profile) : config_(config)
     capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(config_.camera));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = std::make_unique<TagTracker>(config_.tracking, intrinsics_, tagSizesFor(config_));
+    std::vector<TagMap> maps;
+    for (const MapConfig& map : config_.maps)
+        maps.push_back(makeTagMap(map));
+    tracker_->setMaps(std::move(maps));
 
     // Load every file before creating the GL context, so bad input is reported as such even
     // on a machine without EGL.
@@ -116,10 +120,15 @@ Pipeline::Pipeline(const Config& config, bool profile) : config_(config)
         PlacedObject placed;
         placed.model = renderer_->addModel(models[i]);
         placed.marker = object.marker;
+        for (size_t m = 0; m < config_.maps.size(); ++m)
+            if (!object.map.empty() && config_.maps[m].name == object.map)
+                placed.marker = mapKey(int(m));
         placed.markerFromModel = markerFromModel(object, models[i].boundsMin, models[i].boundsMax);
         objects_.push_back(placed);
         LUMAR_LOG(App, Info) << "object '" << object.name << "': " << object.model.string() << " ("
-                             << models[i].triangleCount() << " triangles) on marker " << object.marker;
+                             << models[i].triangleCount() << " triangles) on "
+                             << (object.map.empty() ? "marker " + std::to_string(object.marker)
+                                                    : "map '" + object.map + "'");
     }
     for (const PhantomConfig& phantom : config_.phantoms) {
         GltfModel box = makeCube();
@@ -155,6 +164,19 @@ void Pipeline::updateMarkers(const std::vector<TagDetection>& detections, uint64
     }
 }
 
+void Pipeline::updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs)
+{
+    for (const MapDetection& map : maps) {
+        auto [it, inserted] = markers_.try_emplace(mapKey(map.index));
+        MarkerState& state = it->second;
+        if (inserted)
+            state.filter = OneEuroPoseFilter(filterSettings_);
+        state.cameraFromMarker =
+            config_.tracking.filter ? state.filter.update(map.cameraFromMap, timestampNs) : map.cameraFromMap;
+        state.lastSeen = sequence;
+    }
+}
+
 bool Pipeline::step(FrameReport& report)
 {
     auto start = std::chrono::steady_clock::now();
@@ -167,6 +189,8 @@ bool Pipeline::step(FrameReport& report)
     start = std::chrono::steady_clock::now();
     report.detections = tracker_->detect(frame_.luma);
     updateMarkers(report.detections, frame_.sequence, frame_.timestampNs);
+    report.maps = tracker_->detectMaps(report.detections);
+    updateMaps(report.maps, frame_.sequence, frame_.timestampNs);
     report.times.detectMs = millisecondsSince(start);
 
     start = std::chrono::steady_clock::now();

@@ -13,6 +13,7 @@
 #include "core/frame.h"
 #include "gles_renderer/scene_renderer.h"
 #include "tracking/one_euro_filter.h"
+#include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
 
 namespace lumar {
@@ -25,6 +26,7 @@ struct FrameReport {
     uint64_t sequence = 0;
     int64_t timestampNs = 0;
     std::vector<TagDetection> detections;
+    std::vector<MapDetection> maps;
     int objectsDrawn = 0;
     StageTimes times;
 };
@@ -51,7 +53,7 @@ public:
 private:
     struct PlacedObject {
         ModelId model = -1;
-        int marker = 0;
+        int marker = 0; // a tag id, or mapKey() of a [[maps]] entry
         glm::dmat4 markerFromModel{1.0};
     };
     struct MarkerState {
@@ -61,6 +63,9 @@ private:
     };
 
     void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
+    // Maps share markers_ (and its filtering) under keys no tag id can take.
+    static int mapKey(int mapIndex) { return -1 - mapIndex; }
+    void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
 
     Config config_;
     std::unique_ptr<CaptureSource> capture_;

@@ -1,9 +1,11 @@
-// lumar check-config FILE: exit 0 when the file is a valid configuration, else exit 2 with
-// one line "FILE:LINE: what is wrong" on stderr.
+// lumar check-config FILE: exit 0 when the file is a valid configuration or board profile
+// (told apart by a top-level [board] table), else exit 2 with one line "FILE:LINE: what is
+// wrong" on stderr.
 #include <cstdio>
 
 #include "command_line.h"
 #include "commands.h"
+#include "config/board_profile.h"
 #include "config/config.h"
 #include "core/error.h"
 
@@ -14,7 +16,8 @@ int checkConfigCommand(const Args& args)
     const CommandLine cl(args, {});
     if (cl.helpRequested()) {
         std::fputs("usage: lumar check-config FILE\n\nValidates FILE: syntax, keys, types, ranges and that "
-                   "referenced files exist.\nPrints 'FILE: ok' and exits 0, or prints the first error as "
+                   "referenced files exist.\nA file with a [board] table is checked as a board profile "
+                   "(board/README.md).\nPrints 'FILE: ok' and exits 0, or prints the first error as "
                    "FILE:LINE: message and exits 2.\n",
                    stdout);
         return kExitOk;
@@ -23,7 +26,10 @@ int checkConfigCommand(const Args& args)
         throw UsageError("expected exactly one FILE");
     const std::string& file = cl.positional().front();
     try {
-        (void)loadConfig(file);
+        if (isBoardProfileFile(file))
+            (void)loadBoardProfile(file);
+        else
+            (void)loadConfig(file);
     } catch (const InputError& e) {
         // Exactly one line, FILE:LINE: message, so editors and scripts can jump to it.
         std::fprintf(stderr, "%s\n", e.what());

@@ -178,8 +178,68 @@ void readMarkers(TableReader& root, std::vector<MarkerConfig>& markers)
     });
 }
 
+// Codes in each tag family (the libraries' ncodes): valid tag ids are 0..count-1.
+int tagFamilyCodeCount(std::string_view family)
+{
+    static constexpr std::pair<std::string_view, int> kCounts[] = {
+        {"tag36h11", kTag36h11Codes}, {"tag25h9", 35},           {"tag16h5", 30},
+        {"tagCircle21h7", 38},        {"tagCircle49h12", 65535}, {"tagStandard41h12", 2115},
+        {"tagStandard52h13", 48714},  {"tagCustom48h12", 42211}};
+    for (const auto& [name, count] : kCounts)
+        if (name == family)
+            return count;
+    return 1 << 20; // unreachable: readTracking accepts only the families above
+}
+
+// [[maps]] with their [[maps.tags]]. A tag id belongs to one map at most (the tracker could
+// not tell which map a detection belongs to otherwise), and a tag that is also a marker must
+// have the marker's size (one detection gets one per-tag pose).
+void readMaps(TableReader& root, std::vector<MapConfig>& maps, const std::vector<MarkerConfig>& markers,
+              const std::string& family)
+{
+    const int codes = tagFamilyCodeCount(family);
+    std::set<std::string> names;
+    std::set<int> ids;
+    forEachTable(root, "maps", [&](TableReader& r, const toml::node* node) {
+        MapConfig map;
+        if (!r.has("name"))
+            r.failMissing("name");
+        r.string("name", map.name);
+        if (map.name.empty())
+            r.fail(r.node("name"), "name", "must not be empty");
+        if (!names.insert(map.name).second)
+            r.fail(r.node("name"), "name", "duplicate map name '" + map.name + "'");
+        if (!r.has("tags"))
+            r.failMissing("tags");
+        forEachTable(r, "tags", [&](TableReader& t, const toml::node*) {
+            MapTagConfig tag;
+            if (!t.has("id"))
+                t.failMissing("id");
+            t.integer("id", tag.id, 0, codes - 1);
+            if (!t.has("size"))
+                t.failMissing("size");
+            t.number("size", tag.size, 0.005, 2.0, true);
+            t.vec3("position", tag.position);
+            if (glm::length(tag.position) > 100.0)
+                t.fail(t.node("position"), "position", "must be within 100 metres of the map's origin");
+            t.vec3("rotation", tag.rotationDeg);
+            if (!ids.insert(tag.id).second)
+                t.fail(t.node("id"), "id", "tag " + std::to_string(tag.id) + " is already in a map");
+            for (const MarkerConfig& m : markers)
+                if (m.id == tag.id && m.size != tag.size)
+                    t.fail(t.node("size"), "size",
+                           "tag " + std::to_string(tag.id) + " is listed in [[markers]] with size " +
+                               std::to_string(m.size) + ", not " + std::to_string(tag.size));
+            map.tags.push_back(tag);
+        });
+        if (map.tags.empty())
+            r.fail(node, "tags", "a map needs at least one tag");
+        maps.push_back(map);
+    });
+}
+
 void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const std::vector<MarkerConfig>& markers,
-                 const Context& ctx)
+                 const std::vector<MapConfig>& maps, const Context& ctx)
 {
     std::set<std::string> names;
     forEachTable(root, "objects", [&](TableReader& r, const toml::node* node) {
@@ -214,14 +274,25 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
                 known += (known.empty() ? "" : ", ") + std::string(name);
             r.fail(node, "material", "'" + object.material + "' is not a material preset (" + known + ")");
         }
-        if (!r.has("marker"))
-            r.failMissing("marker");
-        r.integer("marker", object.marker, 0, 1 << 20);
-        bool known = false;
-        for (const MarkerConfig& m : markers)
-            known = known || m.id == object.marker;
-        if (!known)
-            r.fail(node, "marker", "marker " + std::to_string(object.marker) + " is not listed in [[markers]]");
+        if (r.has("map")) {
+            if (r.has("marker"))
+                r.fail(r.node("map"), "map", "give either marker or map, not both");
+            r.string("map", object.map);
+            bool known = false;
+            for (const MapConfig& m : maps)
+                known = known || m.name == object.map;
+            if (!known)
+                r.fail(r.node("map"), "map", "map '" + object.map + "' is not listed in [[maps]]");
+        } else {
+            if (!r.has("marker"))
+                r.failMissing("marker");
+            r.integer("marker", object.marker, 0, 1 << 20);
+            bool known = false;
+            for (const MarkerConfig& m : markers)
+                known = known || m.id == object.marker;
+            if (!known)
+                r.fail(node, "marker", "marker " + std::to_string(object.marker) + " is not listed in [[markers]]");
+        }
         r.vec3("offset", object.offset);
         r.vec3("rotation", object.rotationDeg);
         r.number("scale", object.scale, 0.0, 1e6, true);
@@ -305,6 +376,28 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     r.finish();
 }
 
+// `board = "x86-uvc"` (a shipped profile) or a path to a board file: the profile's camera
+// values become the defaults that the [camera] table then overrides.
+void readBoardProfile(TableReader& root, Config& config, const Context& ctx)
+{
+    if (!root.has("board"))
+        return;
+    std::string name;
+    root.string("board", name);
+    if (name.empty())
+        root.fail(root.node("board"), "board", "must not be empty");
+    const std::filesystem::path file = resolveBoardProfile(name, ctx.baseDir);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) {
+        std::string shipped;
+        for (const std::string& board : shippedBoardNames())
+            shipped += (shipped.empty() ? "" : ", ") + board;
+        root.fail(root.node("board"), "board", "no board profile " + file.string() + " (shipped: " + shipped + ")");
+    }
+    config.board = loadBoardProfile(file); // reports its own FILE:LINE errors
+    applyBoardCameraDefaults(*config.board, config.camera);
+}
+
 void readLogLevel(TableReader& root, std::string& level)
 {
     root.string("log_level", level);
@@ -347,10 +440,12 @@ Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
     config.sourceFile = fileName;
     TableReader r(root, "", ctx.fileName);
     readLogLevel(r, config.logLevel);
+    readBoardProfile(r, config, ctx);
     readCamera(r, config.camera, ctx);
     readTracking(r, config.tracking, ctx);
     readMarkers(r, config.markers);
-    readObjects(r, config.objects, config.markers, ctx);
+    readMaps(r, config.maps, config.markers, config.tracking.family);
+    readObjects(r, config.objects, config.markers, config.maps, ctx);
     readPhantoms(r, config.phantoms, config.markers);
     readEnvironment(r, config.environment, ctx);
     readRendering(r, config.rendering, ctx);

@@ -13,6 +13,8 @@
 
 #include <glm/glm.hpp>
 
+#include "config/board_profile.h"
+
 namespace lumar {
 
 struct FakeTagConfig {
@@ -73,12 +75,28 @@ struct MarkerConfig {
     double size = 0.16; // metres, black border to black border
 };
 
+// [[maps]]: a board or a set of tags with a known layout, solved jointly for one pose
+// (DESIGN.md §5). Each tag's frame (core/pose.h) sits in the map frame at `position`,
+// turned by `rotationDeg` about x, then y, then z (R = Rz * Ry * Rx, as objects turn).
+struct MapTagConfig {
+    int id = 0;
+    double size = 0.16;          // metres, black border to black border
+    glm::dvec3 position{0.0};    // the tag's centre in the map frame, metres
+    glm::dvec3 rotationDeg{0.0}; // degrees; all zero: the tag frame is the map frame
+};
+
+struct MapConfig {
+    std::string name;
+    std::vector<MapTagConfig> tags;
+};
+
 struct ObjectConfig {
     std::string name;
     std::filesystem::path model;     // glTF 2.0 (.gltf or .glb), or "builtin:sphere" / "builtin:cube"
     std::filesystem::path materials; // optional sidecar TOML of Lafortune materials
     std::string material;            // optional preset for every material (e.g. "chrome")
     int marker = 0;                  // id of the marker it sits on
+    std::string map;                 // or the name of the [[maps]] entry it sits on (then `marker` is unused)
     glm::dvec3 offset{0.0};          // metres, marker frame
     glm::dvec3 rotationDeg{0.0};     // XYZ Euler angles applied after the Y-up→Z-up turn
     double scale = 1.0;              // uniform; or set `size` to fit the longest side
@@ -117,9 +135,11 @@ struct OutputConfig {
 struct Config {
     std::filesystem::path sourceFile; // empty for the built-in default
     std::string logLevel = "info";
+    std::optional<BoardProfile> board; // `board = "..."`: its camera values are [camera]'s defaults
     CameraConfig camera;
     TrackingConfig tracking;
     std::vector<MarkerConfig> markers;
+    std::vector<MapConfig> maps;
     std::vector<ObjectConfig> objects;
     std::vector<PhantomConfig> phantoms;
     EnvironmentConfig environment;

@@ -165,6 +165,24 @@ void TableReader::vec3(std::string_view key, glm::dvec3& out)
     numbers(key, glm::value_ptr(out), 3, std::numeric_limits<double>::infinity());
 }
 
+std::vector<std::pair<std::string, const toml::node*>> TableReader::stringArray(std::string_view key)
+{
+    std::vector<std::pair<std::string, const toml::node*>> values;
+    const toml::node* node = find(key);
+    if (!node)
+        return values;
+    const auto* array = node->as_array();
+    if (!array)
+        fail(node, key, std::string("expected an array of strings, found ") + typeName(*node));
+    for (const toml::node& element : *array) {
+        const auto* text = element.as_string();
+        if (!text)
+            fail(&element, key, std::string("expected an array of strings, found ") + typeName(element));
+        values.emplace_back(text->get(), &element);
+    }
+    return values;
+}
+
 void TableReader::path(std::string_view key, std::filesystem::path& out, const std::filesystem::path& baseDir,
                        Expect expect)
 {

@@ -8,6 +8,8 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <toml++/toml.h>
@@ -29,6 +31,9 @@ public:
     void oneOf(std::string_view key, std::string& out, std::initializer_list<std::string_view> allowed);
     void vec2(std::string_view key, glm::dvec2& out, double limit);
     void vec3(std::string_view key, glm::dvec3& out);
+    // An array of strings, each with its node (for a message on the element's own line);
+    // empty when the key is absent.
+    std::vector<std::pair<std::string, const toml::node*>> stringArray(std::string_view key);
     // A path, resolved against baseDir; `mustExist` checks the file (or directory) exists.
     enum class Expect { File, Directory, Parent };
     void path(std::string_view key, std::filesystem::path& out, const std::filesystem::path& baseDir, Expect expect);
