@@ -173,6 +173,11 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     glossy2_ = makePrefilter(settings_.glossy2Exponent, settings_.prefilterSamples, settings_.mirrorSize);
     glossy1_ = makePrefilter(cascadedExponent(settings_.glossy1Exponent, settings_.glossy2Exponent),
                              settings_.cascadeSamples, settings_.glossy2Size);
+    // The mirror map keeps only the mip levels something reads (the SH and glossy-2 passes
+    // read one level each, the mesh shader level 0): llvmpipe builds every level of every
+    // face with a blit, 36 of them for a full 64-px chain.
+    const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
+    mirrorLevels_ = std::clamp(int(std::ceil(std::max(shLod_, glossy2_.lod))) + 1, 1, fullChain);
 
     // Sources of the sums are read from one mip level (bilinear): the LOD is chosen so a
     // texel is about a sample's solid angle, and blending two levels doubled the cost.
@@ -221,7 +226,7 @@ IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent, int samples, i
 IblMaps IblPipeline::createMaps() const
 {
     IblMaps maps;
-    maps.mirrorLevels = int(std::log2(settings_.mirrorSize)) + 1;
+    maps.mirrorLevels = mirrorLevels_;
     maps.mirror = makeCube(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
     // RGBM: the CPU writes the coefficients, sampling a float texture needs no extension.
     maps.coefficients = makeFloatTexture(1, 9, nullptr, rgbm_ ? GL_RGBA32F : sumFormat_);

@@ -68,6 +68,7 @@ private:
     IblSettings settings_;
     GLenum sumFormat_ = GL_RGBA32F; // partial sums and coefficients
     bool rgbm_ = false;
+    int mirrorLevels_ = 1;
     std::vector<glm::vec3> shDirections_; // the SH sample set, for the CPU fallback
     GlProgram skybox_;
     GlProgram shProject_;
