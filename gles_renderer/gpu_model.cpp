@@ -84,6 +84,10 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     MaterialUniforms block;
     block.baseColorFactor = m.baseColorFactor;
     block.emissiveNormalScale = glm::vec4(m.emissiveFactor, m.normalTexture >= 0 ? m.normalScale : 0.0f);
+    const auto has = [](int texture) { return texture >= 0 ? 1.0f : 0.0f; };
+    block.textureFlags =
+        glm::vec4(has(m.baseColorTexture), has(m.hasLafortune ? m.specularTexture : m.metallicRoughnessTexture),
+                  has(m.lobeTexture), has(m.tangentRotationTexture));
     if (m.hasLafortune) {
         const LafortuneParams& l = m.lafortune;
         block.baseColorFactor = glm::vec4(l.diffuse, m.baseColorFactor.a);

@@ -43,12 +43,16 @@ struct MaterialUniforms {
     glm::vec4 specularFactor{0.04f, 0.04f, 0.04f, 0.0f};
     // xyz: C_x, C_y, C_z; w: the exponent n.
     glm::vec4 lobeFactor{-1.0f, -1.0f, 1.0f, 64.0f};
+    // 1 where the material has the texture, 0 where the shader may skip the lookup (the
+    // factor alone): x base colour, y metallic-roughness or specular, z lobe, w rotation.
+    glm::vec4 textureFlags{0.0f};
 };
 static_assert(offsetof(MaterialUniforms, baseColorFactor) == 0);
 static_assert(offsetof(MaterialUniforms, emissiveNormalScale) == 16);
 static_assert(offsetof(MaterialUniforms, metallicRoughness) == 32);
 static_assert(offsetof(MaterialUniforms, specularFactor) == 48);
 static_assert(offsetof(MaterialUniforms, lobeFactor) == 64);
-static_assert(sizeof(MaterialUniforms) == 80);
+static_assert(offsetof(MaterialUniforms, textureFlags) == 80);
+static_assert(sizeof(MaterialUniforms) == 96);
 
 } // namespace lumar

@@ -24,6 +24,7 @@ layout(std140) uniform Material {
     vec4 metallicRoughness;   // x: metallic, y: roughness, z: 1 = Lafortune parameters, w: phi
     vec4 specularFactor;      // rgb: rho_s (Lafortune), w: tangent rotation / pi (x texel)
     vec4 lobeFactor;          // xyz: C_x, C_y, C_z, w: exponent n (Lafortune)
+    vec4 textureFlags;        // 1 where the texture exists: base, mr/specular, lobe, rotation
 };
 
 uniform sampler2D uBaseColor;         // sRGB: base colour / rho_d
@@ -110,7 +111,10 @@ void main()
         t = -t;
     }
 
-    vec3 base = texture(uBaseColor, vUv).rgb;
+    // Absent textures are white: skip their lookups (uniform branches cost nothing).
+    vec3 base = vec3(1.0);
+    if (textureFlags.x > 0.5)
+        base = texture(uBaseColor, vUv).rgb;
     vec3 rhoD;
     vec3 rhoS;
     vec3 lobe;
@@ -118,13 +122,21 @@ void main()
     float rotation;
     if (metallicRoughness.z > 0.5) {
         rhoD = baseColorFactor.rgb * base;
-        rhoS = specularFactor.rgb * texture(uSpecular, vUv).rgb;
-        vec4 lobeTexel = texture(uLobe, vUv);
+        rhoS = specularFactor.rgb;
+        if (textureFlags.y > 0.5)
+            rhoS *= texture(uSpecular, vUv).rgb;
+        vec4 lobeTexel = vec4(1.0);
+        if (textureFlags.z > 0.5)
+            lobeTexel = texture(uLobe, vUv);
         lobe = lobeFactor.xyz * lobeTexel.rgb;
         exponent = max(lobeFactor.w * lobeTexel.a, 1.0);
-        rotation = specularFactor.w * texture(uTangentRotation, vUv).r;
+        rotation = specularFactor.w;
+        if (textureFlags.w > 0.5)
+            rotation *= texture(uTangentRotation, vUv).r;
     } else {
-        vec3 mr = texture(uMetallicRoughness, vUv).rgb;
+        vec3 mr = vec3(1.0);
+        if (textureFlags.y > 0.5)
+            mr = texture(uMetallicRoughness, vUv).rgb;
         float metallic = clamp(metallicRoughness.x * mr.b, 0.0, 1.0);
         float roughness = clamp(metallicRoughness.y * mr.g, 0.0, 1.0);
         vec3 colour = baseColorFactor.rgb * base;
