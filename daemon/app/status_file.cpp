@@ -35,7 +35,15 @@ void StatusFile::write(const RunStatus& status) const
             throw RuntimeError(partial.string() + ": cannot write: " + std::strerror(errno));
     }
     std::error_code ec;
-    std::filesystem::rename(partial, path_, ec);
+    // Readable by every program that watches it, whatever the service's umask (the unit has
+    // UMask=0077, which would leave the file to the service's dynamic user alone).
+    namespace fs = std::filesystem;
+    fs::permissions(partial,
+                    fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read,
+                    fs::perm_options::replace, ec);
+    if (ec)
+        throw RuntimeError(partial.string() + ": cannot set permissions: " + ec.message());
+    fs::rename(partial, path_, ec);
     if (ec)
         throw RuntimeError(path_.string() + ": cannot replace: " + ec.message());
 }

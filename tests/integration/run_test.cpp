@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <spawn.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 
@@ -121,7 +122,10 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     const auto dir = test::scratchDirectory("run-reload");
     const auto config = dir / "scene.toml";
     std::ofstream(config) << sceneWritingTo("a.y4m");
+    // The unit runs lumar with UMask=0077: the status file must stay readable by others.
+    const mode_t previousMask = ::umask(077);
     const pid_t pid = spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    ::umask(previousMask);
     ASSERT_GT(pid, 0);
     ASSERT_TRUE(waitForFrames(dir / "a.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
 
@@ -158,6 +162,9 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     EXPECT_EQ(json["config"], "ok") << json.dump();
     EXPECT_EQ(json["camera"], "ok") << json.dump();
     EXPECT_GT(json["frames"].get<long>(), 0);
+    const auto perms = std::filesystem::status(dir / "status.json").permissions();
+    EXPECT_NE(perms & std::filesystem::perms::others_read, std::filesystem::perms::none)
+        << "status.json not world-readable";
     EXPECT_GT(json["fps"].get<double>(), 0.0);
 
     ASSERT_EQ(::kill(pid, SIGTERM), 0);
