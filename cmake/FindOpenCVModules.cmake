@@ -11,3 +11,17 @@ target_include_directories(lumar_opencv SYSTEM INTERFACE ${OPENCV_INCLUDE_DIR})
 target_link_libraries(lumar_opencv INTERFACE ${_lumar_opencv_libs})
 add_library(lumar::opencv ALIAS lumar_opencv)
 message(STATUS "OpenCV modules: ${_lumar_opencv_libs}")
+
+# Optional: OpenCV's contrib aruco module (Debian: libopencv-contrib-dev), only for the ArUco
+# column of `lumar bench --tracking`; without it that detector is skipped.
+find_path(OPENCV_ARUCO_INCLUDE_DIR opencv2/aruco.hpp PATH_SUFFIXES opencv4)
+find_library(OPENCV_aruco_LIBRARY NAMES opencv_aruco)
+if(OPENCV_ARUCO_INCLUDE_DIR AND OPENCV_aruco_LIBRARY)
+  add_library(lumar_opencv_aruco INTERFACE)
+  target_link_libraries(lumar_opencv_aruco INTERFACE lumar_opencv ${OPENCV_aruco_LIBRARY})
+  target_compile_definitions(lumar_opencv_aruco INTERFACE LUMAR_HAVE_ARUCO=1)
+  add_library(lumar::opencv_aruco ALIAS lumar_opencv_aruco)
+  message(STATUS "OpenCV aruco: ${OPENCV_aruco_LIBRARY}")
+else()
+  message(STATUS "OpenCV aruco: not found (lumar bench --tracking skips the ArUco detector)")
+endif()

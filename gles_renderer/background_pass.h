@@ -1,9 +1,12 @@
 // Pass 1 of a frame: the camera image copied into the whole framebuffer, bit-exact. A
 // single-sampled target gets it uploaded straight into its colour texture (no draw at all);
 // a multisampled one gets it drawn by a fullscreen triangle from a persistent texture.
+// A YCbCr frame (NV12, YUYV) is uploaded as its planes and converted to RGB by a fullscreen
+// triangle (background_ycbcr.frag), matching the CPU converter within one code value.
 #pragma once
 
 #include "core/image.h"
+#include "core/ycbcr_image.h"
 #include "gles_renderer/gl_object.h"
 #include "gles_renderer/render_target.h"
 
@@ -20,9 +23,17 @@ public:
     // Puts `rgb` (3 channels, the target's size, row 0 at the top) into every pixel of the
     // target, which must be bound for drawing. Throws InputError when the shape differs.
     void draw(const Image8& rgb) const;
+    // The same from YCbCr planes (not const: the textures are created on first use and
+    // recreated when the layout changes). Throws InputError for an empty image, a size other
+    // than the target's, or planes smaller than their size and stride need.
+    void draw(const YCbCrImage& ycbcr);
+
+    // The second texture unit of the YCbCr path (chroma or packed YUYV).
+    static constexpr GLuint kChromaTextureUnit = 6;
 
 private:
     void upload(GLuint texture, const Image8& rgb) const;
+    void prepareYcbcr(YCbCrLayout layout);
 
     int width_;
     int height_;
@@ -31,6 +42,14 @@ private:
     GlProgram program_;
     GlTexture texture_;
     GlVertexArray emptyVertexArray_; // GLES 3 draws need a bound vertex array
+    // The YCbCr path, created on its first frame:
+    GlProgram ycbcrProgram_;
+    GlTexture lumaTexture_;   // NV12 Y plane, R8
+    GlTexture chromaTexture_; // NV12 Cb Cr, RG8 of half size; YUYV rows, RGBA8 of half width
+    YCbCrLayout texturesLayout_ = YCbCrLayout::None;
+    GLint layoutLocation_ = -1;
+    GLint bt709Location_ = -1;
+    GLint fullRangeLocation_ = -1;
 };
 
 } // namespace lumar

@@ -48,6 +48,43 @@ bool mayBeInFace(const DrawItem& item, const GpuModel& model)
     return centre.z > -radius && std::abs(centre.x) <= centre.z + slack && std::abs(centre.y) <= centre.z + slack;
 }
 
+// OnChange: updates after a change, one bounce of inter-reflection each; three bring a pair
+// of mirrors within a few percent of their steady state.
+constexpr int kSettlingUpdates = 3;
+// Scene changes below these are tracking noise (a filtered still marker moves < 0.1 degree).
+constexpr double kSceneTranslationToleranceMetres = 0.002;
+constexpr double kSceneLinearTolerance = 0.003;
+
+// Every item's model in the environment frame, translations relative to the first item's:
+// the maps (centred on their objects, axes along the environment) depend on nothing else.
+void describeScene(std::span<const DrawItem> items, const EnvironmentLighting& environment,
+                   std::vector<glm::dmat4>& scene)
+{
+    scene.clear();
+    const glm::dmat4 environmentFromCamera(environment.environmentFromCamera());
+    for (const DrawItem& item : items)
+        scene.push_back(environmentFromCamera * item.cameraFromModel);
+    if (scene.empty())
+        return;
+    const glm::dvec4 origin = scene.front()[3];
+    for (glm::dmat4& m : scene)
+        m[3] = glm::dvec4(glm::dvec3(m[3] - origin), 1.0);
+}
+
+bool sameScene(const std::vector<glm::dmat4>& a, const std::vector<glm::dmat4>& b)
+{
+    if (a.size() != b.size())
+        return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        for (int c = 0; c < 3; ++c)
+            if (glm::length(glm::dvec3(a[i][c] - b[i][c])) > kSceneLinearTolerance * glm::length(glm::dvec3(a[i][c])))
+                return false;
+        if (glm::length(glm::dvec3(a[i][3] - b[i][3])) > kSceneTranslationToleranceMetres)
+            return false;
+    }
+    return true;
+}
+
 } // namespace
 
 EnvironmentProbes::EnvironmentProbes(const EnvironmentMapOptions& options)
@@ -70,12 +107,15 @@ void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& enviro
     environmentGeneration_ = environment.generation();
     // Every object's maps show the old environment: render them again before use.
     probes_.clear();
+    history_.clear();
     checkGlError("building the real environment's maps");
 }
 
-void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items)
+void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment)
 {
     updates_.clear();
+    if (options_.policy == EnvironmentMapPolicy::OnChange)
+        describeScene(items, environment, scene_);
     std::vector<size_t> owners; // items with a dynamic map, in order
     for (size_t i = 0; i < items.size(); ++i)
         if (items[i].object >= 0 && !items[i].phantom)
@@ -96,6 +136,18 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items)
             break;
         case EnvironmentMapPolicy::Budget:
             break;
+        case EnvironmentMapPolicy::OnChange: {
+            History& history = history_[items[i].object];
+            if (!ready || !sameScene(history.scene, scene_)) {
+                history.scene = scene_;
+                history.bouncesLeft = kSettlingUpdates;
+            }
+            if (history.bouncesLeft > 0) {
+                updates_.push_back(i);
+                --history.bouncesLeft;
+            }
+            break;
+        }
         }
     }
     if (options_.policy != EnvironmentMapPolicy::Budget)
@@ -183,7 +235,7 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
         maps_[i] = own ? own : &environmentMaps_;
     }
     if (options_.dynamic) {
-        chooseUpdates(items);
+        chooseUpdates(items, environment);
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
         for (const size_t i : updates_) {
             const auto start = Clock::now();

@@ -33,12 +33,16 @@ public:
     // Whether the maps are RGBA8 RGBM (no float render targets): shaders decode them.
     [[nodiscard]] bool rgbm() const { return pipeline_.rgbm(); }
     // Forgets every object's maps (the models they showed are gone).
-    void clear() { probes_.clear(); }
+    void clear()
+    {
+        probes_.clear();
+        history_.clear();
+    }
 
 private:
     void rebuildEnvironmentMaps(const EnvironmentLighting& environment);
     // Which items get new maps this frame (indices into items).
-    void chooseUpdates(std::span<const DrawItem> items);
+    void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                      const EnvironmentLighting& environment, const MeshPass& meshes, bool profile, RenderStats& stats);
 
@@ -47,6 +51,13 @@ private:
     IblMaps environmentMaps_;
     int environmentGeneration_ = -1;
     std::map<int, IblMaps> probes_; // by DrawItem::object; node-based: pointers stay valid
+    // OnChange: what each object's map last saw, and the updates still owed to the bounces.
+    struct History {
+        std::vector<glm::dmat4> scene;
+        int bouncesLeft = 0;
+    };
+    std::map<int, History> history_;
+    std::vector<glm::dmat4> scene_; // this frame's scene in the environment frame
     long frame_ = 0;
     size_t roundRobin_ = 0;
     double probeCostMs_ = 0.0; // running mean cost of one probe (budget policy)

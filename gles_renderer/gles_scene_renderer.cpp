@@ -104,6 +104,34 @@ public:
     void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
                 std::span<const DrawItem> items) override
     {
+        renderOver([&] { background_.draw(backgroundRgb); }, intrinsics, items);
+    }
+
+    void render(const YCbCrImage& background, const CameraIntrinsics& intrinsics,
+                std::span<const DrawItem> items) override
+    {
+        renderOver([&] { background_.draw(background); }, intrinsics, items);
+    }
+
+    void readback(Image8& rgb) override
+    {
+        context_.makeCurrent();
+        readback_.read(rgb);
+    }
+
+    [[nodiscard]] RenderStats lastStats() const override { return stats_; }
+    [[nodiscard]] const IblMaps* objectMaps(int object) const override { return probes_.objectMaps(object); }
+    [[nodiscard]] const IblMaps& environmentMaps() const override { return probes_.environmentMaps(); }
+
+    [[nodiscard]] int width() const override { return width_; }
+    [[nodiscard]] int height() const override { return height_; }
+
+private:
+    // One frame: the environment maps, then `drawBackground` into the target, then the models.
+    template <typename DrawBackground>
+    void renderOver(const DrawBackground& drawBackground, const CameraIntrinsics& intrinsics,
+                    std::span<const DrawItem> items)
+    {
         checkIntrinsics(intrinsics, width_, height_);
         for (const DrawItem& item : items)
             if (item.model < 0 || size_t(item.model) >= models_.size())
@@ -119,7 +147,7 @@ public:
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
-        background_.draw(backgroundRgb);
+        drawBackground();
 
         frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
         const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
@@ -138,20 +166,6 @@ public:
         glFlush();
     }
 
-    void readback(Image8& rgb) override
-    {
-        context_.makeCurrent();
-        readback_.read(rgb);
-    }
-
-    [[nodiscard]] RenderStats lastStats() const override { return stats_; }
-    [[nodiscard]] const IblMaps* objectMaps(int object) const override { return probes_.objectMaps(object); }
-    [[nodiscard]] const IblMaps& environmentMaps() const override { return probes_.environmentMaps(); }
-
-    [[nodiscard]] int width() const override { return width_; }
-    [[nodiscard]] int height() const override { return height_; }
-
-private:
     // Declared first so it is destroyed last: every GL object below needs it.
     EglContext context_;
     int width_;

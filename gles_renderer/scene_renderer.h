@@ -9,6 +9,7 @@
 
 #include "core/camera_model.h"
 #include "core/image.h"
+#include "core/ycbcr_image.h"
 #include "gles_renderer/environment_map.h"
 #include "gles_renderer/gltf_model.h"
 #include "gles_renderer/ibl_maps.h"
@@ -35,6 +36,8 @@ enum class EnvironmentMapPolicy {
     EveryFrame,   // every object's map, every frame (the paper's method)
     EveryKFrames, // each object every k-th frame, objects staggered across frames
     Budget,       // round-robin, as many as fit a per-frame time budget (at least one)
+    OnChange,     // when the scene around the object changed, then a few more frames for the
+                  // inter-reflection bounces to settle; the same images as EveryFrame
 };
 
 struct EnvironmentMapOptions {
@@ -82,6 +85,10 @@ public:
 
     // Composites the models over `backgroundRgb` (3 channels, the output size).
     virtual void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
+                        std::span<const DrawItem> items) = 0;
+    // The same over a camera frame in its YCbCr planes (NV12 or YUYV, the output size),
+    // converted to RGB on the GPU with the frame's matrix and range.
+    virtual void render(const YCbCrImage& background, const CameraIntrinsics& intrinsics,
                         std::span<const DrawItem> items) = 0;
     // The last rendered frame, 3 channels, row 0 at the top.
     virtual void readback(Image8& rgb) = 0;

@@ -16,6 +16,7 @@ struct ProgramSources {
 
 // Every program the renderer links, so a test can check them all.
 inline constexpr ProgramSources kBackgroundProgram{"fullscreen.vert", "background.frag"};
+inline constexpr ProgramSources kBackgroundYcbcrProgram{"fullscreen.vert", "background_ycbcr.frag"};
 inline constexpr ProgramSources kMeshProgram{"mesh.vert", "mesh.frag"};
 inline constexpr ProgramSources kDepthOnlyProgram{"depth_only.vert", "depth_only.frag"};
 inline constexpr ProgramSources kSkyboxProgram{"cube_face.vert", "skybox.frag"};
@@ -24,9 +25,10 @@ inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh
 inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.frag"};
 inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
 inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
-inline constexpr std::array<ProgramSources, 9> kAllPrograms{
-    kDepthOnlyProgram,         kBackgroundProgram, kMeshProgram,          kSkyboxProgram,        kShProjectProgram,
-    kShProjectEquirectProgram, kShReduceProgram,   kDiffuseFromShProgram, kPhongPrefilterProgram};
+inline constexpr std::array<ProgramSources, 10> kAllPrograms{
+    kDepthOnlyProgram,     kBackgroundProgram,    kBackgroundYcbcrProgram,   kMeshProgram,
+    kSkyboxProgram,        kShProjectProgram,     kShProjectEquirectProgram, kShReduceProgram,
+    kDiffuseFromShProgram, kPhongPrefilterProgram};
 
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the

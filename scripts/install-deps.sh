@@ -10,6 +10,7 @@ packages=(
   libglm-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
   libapriltag-dev
+  libopencv-contrib-dev # optional: the ArUco column of `lumar bench --tracking`
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libturbojpeg0-dev v4l-utils
   libcamera-dev

@@ -33,6 +33,8 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
         options.frameTimeoutMs = config.timeoutMs;
         options.pixelFormat = pixelFormatFromName(config.format);
         options.controls = config.controls;
+        // The renderer converts NV12/YUYV on the GPU unless the operator asks for the CPU.
+        options.rawYcbcr = config.convert == "gpu";
         // The pipeline sizes its renderer and intrinsics once; a resolution change reopens.
         options.followResolutionChanges = false;
         // A camera can be unplugged or hang; it is reopened in place when it comes back.

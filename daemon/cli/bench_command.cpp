@@ -19,6 +19,7 @@ namespace {
 
 constexpr const char* kHelp =
     R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--no-profile] [--log-level SPEC]
+       lumar bench --tracking [options]   (see 'lumar bench --tracking --help')
 
 Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
 whole pipeline without pacing or output, and prints frames per second, frame-time
@@ -64,6 +65,9 @@ double residentMegabytes()
 
 int benchCommand(const Args& args)
 {
+    // The tracking benchmark has its own options (tracking_bench_command.cpp).
+    if (std::find(args.begin(), args.end(), "--tracking") != args.end())
+        return trackingBenchCommand(args);
     const CommandLine cl(args,
                          {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"no-profile", false}, {"log-level"}});
     if (cl.helpRequested()) {

@@ -15,6 +15,7 @@ int runCommand(const Args& args);
 int checkConfigCommand(const Args& args);
 int detectCommand(const Args& args);
 int benchCommand(const Args& args);
+int trackingBenchCommand(const Args& args); // lumar bench --tracking
 int probeCommand(const Args& args);
 int calibrateCommand(const Args& args);
 

@@ -104,6 +104,7 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
     r.integer("timeout_ms", camera.timeoutMs, 50, 60000);
     r.integer("buffers", camera.buffers, 2, 32);
     r.oneOf("format", camera.format, {"auto", "nv12", "yuyv", "mjpeg", "grey"});
+    r.oneOf("convert", camera.convert, {"auto", "gpu", "cpu"});
     readCameraControls(r, camera.controls);
     r.integer("width", camera.width, 16, 8192);
     checkEven(r, "width", camera.width);
@@ -350,7 +351,7 @@ void readRendering(TableReader& root, RenderingConfig& rendering, const Context&
     if (!table)
         return;
     TableReader r(*table, "rendering", ctx.fileName);
-    r.oneOf("environment_maps", rendering.environmentMaps, {"every_frame", "every_k", "budget", "off"});
+    r.oneOf("environment_maps", rendering.environmentMaps, {"every_frame", "every_k", "budget", "on_change", "off"});
     r.integer("environment_map_every", rendering.environmentMapEvery, 1, 1000);
     r.number("environment_map_budget_ms", rendering.environmentMapBudgetMs, 0.0, 1000.0, true);
     r.integer("environment_map_size", rendering.environmentMapSize, 16, 256);

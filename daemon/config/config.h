@@ -42,6 +42,8 @@ struct CameraConfig {
     int timeoutMs = 2000;               // v4l2, libcamera: no frame for this long is an error
     int buffers = 4;                    // v4l2: MMAP buffers; libcamera: frame buffers requested
     std::string format = "auto";        // source v4l2: "auto" (NV12 > YUYV > MJPEG > GREY) or one of them
+    std::string convert = "auto";       // v4l2 NV12/YUYV: YCbCr to RGB in the renderer ("gpu"), "cpu", or "auto" (gpu
+                                        // unless the GLES implementation is a software rasteriser)
     CameraControlsConfig controls;      // source v4l2
     int width = 1280;                   // fake: the size; v4l2: the size requested; files: their own
     int height = 720;
@@ -120,7 +122,7 @@ struct PhantomConfig {
 
 // The paper's per-object environment maps (DESIGN.md §6.1).
 struct RenderingConfig {
-    std::string environmentMaps = "every_frame"; // every_frame | every_k | budget | off
+    std::string environmentMaps = "every_frame"; // every_frame | every_k | budget | on_change | off
     int environmentMapEvery = 2;                 // every_k: each object every k-th frame
     double environmentMapBudgetMs = 8.0;         // budget: milliseconds per frame
     int environmentMapSize = 64;                 // px per cube face, a power of two 16..256

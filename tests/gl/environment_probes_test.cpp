@@ -2,6 +2,7 @@
 // beside a red emissive cube. The sphere's map shows the cube and its pixels that face the
 // cube turn red (inter-reflection); no object appears in its own map, even double-sided;
 // the update policies re-render the maps they promise.
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "gl_readback.h"
@@ -160,9 +161,38 @@ TEST(EnvironmentProbes, PoliciesUpdateTheMapsTheyPromise)
         // Both are new on frame 0; then one of the two each frame, staggered.
         EXPECT_EQ(updatesPerFrame(EnvironmentMapPolicy::EveryKFrames, 4), (std::vector<int>{2, 1, 1, 1}));
         EXPECT_EQ(updatesPerFrame(EnvironmentMapPolicy::Budget, 3), (std::vector<int>{1, 1, 1}));
+        // A still scene: three updates for the bounces, then none.
+        EXPECT_EQ(updatesPerFrame(EnvironmentMapPolicy::OnChange, 5), (std::vector<int>{2, 2, 2, 0, 0}));
     } catch (const RuntimeError& e) {
         GTEST_SKIP() << "no GLES 3 renderer: " << e.what();
     }
+}
+
+// OnChange follows the scene, not the camera: turning the camera (and with it the
+// environment's rotation) around still objects changes nothing in their maps; moving one
+// object re-renders both maps.
+TEST(EnvironmentProbes, OnChangeIgnoresTheCameraAndFollowsTheObjects)
+{
+    RenderOptions options;
+    options.environmentMaps.policy = EnvironmentMapPolicy::OnChange;
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
+    Scene scene = makeScene(renderer);
+    const auto frame = [&](const glm::dmat4& cameraMotion) {
+        std::vector<DrawItem> moved = scene.items;
+        for (DrawItem& item : moved)
+            item.cameraFromModel = cameraMotion * item.cameraFromModel;
+        // The environment stays fixed to the world: it turns with the inverse camera motion.
+        renderer.setEnvironmentRotation(glm::inverse(glm::dmat3(cameraMotion)));
+        renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), moved);
+        return renderer.lastStats().mapsUpdated;
+    };
+    for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(frame(glm::dmat4(1.0)), 2);
+    const glm::dmat4 turned = glm::rotate(glm::dmat4(1.0), glm::radians(20.0), glm::dvec3(0, 1, 0)) *
+                              glm::translate(glm::dmat4(1.0), glm::dvec3(0.03, -0.02, 0.05));
+    EXPECT_EQ(frame(turned), 0) << "the camera moved, the scene did not";
+    scene.items[1].cameraFromModel = test::translation(0.0, 0.05, 0.0) * scene.items[1].cameraFromModel;
+    EXPECT_EQ(frame(turned), 2) << "the lamp moved";
 }
 
 } // namespace

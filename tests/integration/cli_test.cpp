@@ -157,6 +157,25 @@ TEST(Cli, BenchPrintsItsJsonReport)
     EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
 }
 
+TEST(Cli, BenchTrackingPrintsATableAndJson)
+{
+    const auto dir = test::scratchDirectory("bench_tracking");
+    const std::vector<std::string> small = {"bench",    "--tracking", "--frames-per-condition", "2", "--width", "320",
+                                            "--height", "180"};
+    const auto table = runLumar(small, dir);
+    ASSERT_EQ(table.exitCode, 0) << table.err;
+    EXPECT_NE(table.out.find("| clean | lumar |"), std::string::npos) << table.out;
+    EXPECT_NE(table.out.find("| overall | apriltag |"), std::string::npos) << table.out;
+    auto withJson = small;
+    withJson.push_back("--json");
+    const auto json = runLumar(withJson, dir);
+    ASSERT_EQ(json.exitCode, 0) << json.err;
+    const auto j = nlohmann::json::parse(json.out);
+    EXPECT_EQ(j["frames_per_condition"], 2);
+    EXPECT_EQ(j["rows"].size(), (j["conditions"].size() + 1) * j["detectors"].size());
+    EXPECT_EQ(runLumar({"bench", "--tracking", "--frames-per-condition", "0"}, dir).exitCode, 2);
+}
+
 TEST(Cli, CalibrateWritesAYamlThatLoads)
 {
     const auto dir = test::scratchDirectory("calibrate");

@@ -146,7 +146,9 @@ void V4l2Source::negotiateFormat()
     }
     LUMAR_LOG(Capture, Info) << device << ": " << fourccName(pixelFormat_) << " " << width_ << "x" << height_
                              << (converter_.colorimetry().matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601")
-                             << (converter_.colorimetry().fullRange ? " full range" : " limited range");
+                             << (converter_.colorimetry().fullRange ? " full range" : " limited range")
+                             << (options_.rawYcbcr && pixelFormat_ != V4L2_PIX_FMT_GREY ? ", converted on the GPU"
+                                                                                        : "");
 }
 
 void V4l2Source::requestFrameRate()
@@ -382,8 +384,50 @@ bool V4l2Source::next(Frame& frame)
     return true;
 }
 
+namespace {
+
+// Copies `rows` rows of `rowBytes` into `plane`, tightly packed (the driver's padding dropped).
+void copyPlane(const uint8_t* data, size_t stride, size_t rowBytes, int rows, std::vector<uint8_t>& plane)
+{
+    plane.resize(rowBytes * size_t(rows));
+    for (int row = 0; row < rows; ++row)
+        std::memcpy(plane.data() + rowBytes * size_t(row), data + stride * size_t(row), rowBytes);
+}
+
+} // namespace
+
+void V4l2Source::keepRawPlanes(const uint8_t* data, Frame& frame) const
+{
+    YCbCrImage& raw = frame.ycbcr;
+    raw.width = width_;
+    raw.height = height_;
+    raw.colorimetry = converter_.colorimetry();
+    const size_t width = size_t(width_);
+    if (pixelFormat_ == V4L2_PIX_FMT_NV12) {
+        raw.layout = YCbCrLayout::Nv12;
+        copyPlane(data, bytesPerLine_, width, height_, raw.plane0);
+        copyPlane(data + bytesPerLine_ * size_t(height_), bytesPerLine_, width, height_ / 2, raw.plane1);
+        raw.stride0 = raw.stride1 = width;
+        converter_.convertLuma(data, bytesPerLine_, 1, width_, height_, frame.luma);
+    } else {
+        raw.layout = YCbCrLayout::Yuyv;
+        copyPlane(data, bytesPerLine_, width * 2, height_, raw.plane0);
+        raw.plane1.clear();
+        raw.stride0 = width * 2;
+        raw.stride1 = 0;
+        converter_.convertLuma(data, bytesPerLine_, 2, width_, height_, frame.luma);
+    }
+}
+
 bool V4l2Source::convert(const uint8_t* data, size_t bytesUsed, Frame& frame)
 {
+    const bool raw = pixelFormat_ == V4L2_PIX_FMT_NV12 || pixelFormat_ == V4L2_PIX_FMT_YUYV;
+    if (options_.rawYcbcr && raw) {
+        keepRawPlanes(data, frame);
+        return true;
+    }
+    // A frame object recycled from a raw frame must not carry stale planes.
+    frame.ycbcr.layout = YCbCrLayout::None;
     switch (pixelFormat_) {
     case V4L2_PIX_FMT_MJPEG:
         return mjpeg_->decode(data, bytesUsed, width_, height_, frame.rgb, frame.luma, decodeError_);

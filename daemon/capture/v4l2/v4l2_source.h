@@ -35,6 +35,10 @@ struct V4l2Options {
     // height() follow, frames come at the new size); false, throw RuntimeError from next()
     // (for callers sized once at start, which reopen the camera instead).
     bool followResolutionChanges = true;
+    // NV12 and YUYV frames: true, deliver the planes as Frame::ycbcr (plus the tracker's
+    // luma) and leave the RGB conversion to the renderer's GPU; false, convert to Frame::rgb
+    // on the CPU. MJPEG and GREY are always converted here.
+    bool rawYcbcr = false;
 };
 
 class V4l2Source final : public CaptureSource {
@@ -65,7 +69,8 @@ public:
     // Source changes handled by restarting the stream (V4L2_EVENT_SOURCE_CHANGE).
     [[nodiscard]] int sourceChanges() const { return sourceChanges_; }
     // How long the last delivered frame took from its dequeued buffer to RGB + luma
-    // (conversion or JPEG decode), for per-stage timings.
+    // (conversion or JPEG decode; with rawYcbcr, the plane copies and luma), for per-stage
+    // timings.
     [[nodiscard]] int64_t lastConversionNs() const { return lastConversionNs_; }
 
 private:
@@ -83,6 +88,8 @@ private:
     void queueBuffer(uint32_t index);
     // Converts (or decodes) one buffer into the frame; false when the data is corrupt.
     bool convert(const uint8_t* data, size_t bytesUsed, Frame& frame);
+    // Copies an NV12/YUYV buffer's planes into frame.ycbcr and fills frame.luma.
+    void keepRawPlanes(const uint8_t* data, Frame& frame) const;
     void countCorrupt(uint32_t sequence, const std::string& why);
 
     V4l2Options options_;

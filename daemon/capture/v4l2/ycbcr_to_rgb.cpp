@@ -90,6 +90,18 @@ void YCbCrConverter::convertNv12(const uint8_t* yPlane, size_t yStride, const ui
     }
 }
 
+void YCbCrConverter::convertLuma(const uint8_t* data, size_t stride, size_t step, int width, int height,
+                                 Image8& luma) const
+{
+    luma.reshape(width, height, 1);
+    for (int row = 0; row < height; ++row) {
+        const uint8_t* in = data + size_t(row) * stride;
+        uint8_t* out = luma.row(row);
+        for (int x = 0; x < width; ++x, in += step)
+            out[x] = fixedToByte(yTerm_[*in]);
+    }
+}
+
 void YCbCrConverter::convertGrey(const uint8_t* data, size_t stride, int width, int height, Image8& rgb,
                                  Image8& luma) const
 {

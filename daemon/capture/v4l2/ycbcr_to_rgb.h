@@ -9,15 +9,9 @@
 #include <cstdint>
 
 #include "core/image.h"
+#include "core/ycbcr_image.h"
 
 namespace lumar {
-
-enum class YCbCrMatrix { Bt601, Bt709 };
-
-struct YCbCrColorimetry {
-    YCbCrMatrix matrix = YCbCrMatrix::Bt601;
-    bool fullRange = false; // false: Y in [16, 235], Cb/Cr in [16, 240]
-};
 
 // One colorimetry's conversion as lookup tables in 16.16 fixed point, built once per stream.
 class YCbCrConverter {
@@ -30,6 +24,10 @@ public:
     void convertNv12(const uint8_t* yPlane, size_t yStride, const uint8_t* uvPlane, size_t uvStride, int width,
                      int height, Image8& rgb, Image8& luma) const;
     void convertGrey(const uint8_t* data, size_t stride, int width, int height, Image8& rgb, Image8& luma) const;
+
+    // Only the tracker's luma (the same values the conversions write), from Y samples
+    // `step` bytes apart: 1 for an NV12 Y plane, 2 for YUYV.
+    void convertLuma(const uint8_t* data, size_t stride, size_t step, int width, int height, Image8& luma) const;
 
     [[nodiscard]] YCbCrColorimetry colorimetry() const { return colorimetry_; }
 

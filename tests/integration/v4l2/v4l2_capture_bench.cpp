@@ -3,7 +3,8 @@
 // frames, and the capturing thread's CPU use (getrusage RUSAGE_THREAD over the run / wall
 // time) at 30 fps. The virtual camera synthesises its frames inside the capturing thread's
 // own ioctl/poll calls, so that CPU figure includes the device's work too; the conversion
-// alone is the part a real camera would cost. Not a test: numbers for DESIGN.md §9.
+// alone is the part a real camera would cost. "/g" rows keep the NV12/YUYV planes for the
+// renderer's GPU conversion (camera.convert = "gpu"). Not a test: numbers for DESIGN.md §9.
 //
 //   LD_PRELOAD=build/tests/vcam/liblumar_vcam.so LUMAR_VCAM_DEVICE=/dev/video-bench
 //   build/tests/integration/v4l2/v4l2_capture_bench [frames]       (one command line)
@@ -44,14 +45,17 @@ int main(int argc, char** argv)
     struct Case {
         const char* vcamFormats;
         const char* name;
+        bool rawYcbcr = false; // planes kept for the GPU: copies plus luma, no RGB
     };
-    for (Case c : {Case{"NV12", "NV12"}, Case{"YUYV", "YUYV"}, Case{"MJPG", "MJPEG"}, Case{"GREY", "GREY"}}) {
+    for (Case c : {Case{"NV12", "NV12"}, Case{"NV12", "NV12/g", true}, Case{"YUYV", "YUYV"},
+                   Case{"YUYV", "YUYV/g", true}, Case{"MJPG", "MJPEG"}, Case{"GREY", "GREY"}}) {
         setenv("LUMAR_VCAM_FORMATS", c.vcamFormats, 1);
         lumar::V4l2Options options;
         options.device = device;
         options.width = 1280;
         options.height = 720;
         options.fps = 30.0;
+        options.rawYcbcr = c.rawYcbcr;
         lumar::V4l2Source source(options);
         lumar::Frame frame;
         source.next(frame); // first frame: buffers sized, decoder warmed up
@@ -67,7 +71,7 @@ int main(int argc, char** argv)
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
         const double cpu = threadCpuSeconds() - cpuStart;
         std::printf("%-6s %4dx%-5d %8.2f ms %7.2f ms %10.1f %%   (corrupt %llu, dropped %llu)\n", c.name,
-                    frame.rgb.width, frame.rgb.height, totalNs / frames / 1e6, minNs / 1e6, 100.0 * cpu / wall,
+                    frame.luma.width, frame.luma.height, totalNs / frames / 1e6, minNs / 1e6, 100.0 * cpu / wall,
                     static_cast<unsigned long long>(source.framesCorrupt()),
                     static_cast<unsigned long long>(source.framesDropped()));
     }

@@ -2,8 +2,8 @@
 // the surface kept within a cell of the original, nothing degenerate, indices valid.
 #include <gtest/gtest.h>
 
-#include "gles_renderer/builtin_shapes.h"
 #include "core/error.h"
+#include "gles_renderer/builtin_shapes.h"
 #include "gles_renderer/mesh_simplify.h"
 
 namespace lumar {
@@ -17,7 +17,7 @@ TEST(MeshSimplify, ClusteringASphereKeepsItsShapeWithFarFewerTriangles)
     const GltfPrimitive& p = proxy.primitives[0];
     const size_t after = p.indices.size() / 3;
     EXPECT_LT(after, before / 6) << before << " -> " << after; // measured 16128 -> 2152
-    EXPECT_GT(after, 200u); // still a sphere, not a handful of triangles
+    EXPECT_GT(after, 200u);                                    // still a sphere, not a handful of triangles
     for (const glm::vec3& v : p.positions)
         EXPECT_NEAR(glm::length(v), 0.5f, 1.0f / 16.0f); // within a cell of the surface
     for (size_t t = 0; t < p.indices.size(); t += 3) {

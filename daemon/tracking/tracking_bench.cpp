@@ -1,0 +1,460 @@
+#include "tracking/tracking_bench.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <apriltag/apriltag.h>
+#include <opencv2/core.hpp>
+#ifdef LUMAR_HAVE_ARUCO
+#include <opencv2/aruco.hpp>
+#endif
+
+#include "core/error.h"
+#include "tracking/apriltag_family.h"
+#include "tracking/tag_tracker.h"
+#include "tracking/tracking_bench_scene.h"
+
+namespace lumar {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr int kMaxFramesPerCondition = 10000;
+
+struct Found {
+    int id = -1;
+    std::array<glm::dvec2, 4> corners{}; // OpenCV pixel convention, AprilTag order
+    bool hasPose = false;
+    Pose cameraFromMarker;
+};
+
+TagSizes sizesOf(const BenchCondition& condition)
+{
+    TagSizes sizes;
+    for (const BenchTag& tag : condition.tags)
+        sizes.byId[tag.id] = tag.size;
+    return sizes;
+}
+
+// The detectors compared. restart() begins a condition: a new sequence, no history.
+class Detector {
+public:
+    virtual ~Detector() = default;
+    [[nodiscard]] virtual const char* name() const = 0;
+    virtual void restart(const BenchCondition& condition) = 0;
+    virtual std::vector<Found> detect(const Image8& luma) = 0;
+};
+
+// Pose of a detection from a library without one, with lumar's IPPE solver and no history,
+// so that pose errors differ only by the corners the detectors found.
+void solvePose(Found& f, const TagSizes& sizes, const CameraIntrinsics& k)
+{
+    const double size = sizes.of(f.id);
+    double rms = 0.0;
+    f.hasPose = size > 0.0 && solveTagPose(f.corners, size, k, f.cameraFromMarker, rms);
+}
+
+class LumarDetector final : public Detector {
+public:
+    explicit LumarDetector(const CameraIntrinsics& k) : k_(k) {}
+    [[nodiscard]] const char* name() const override { return "lumar"; }
+    void restart(const BenchCondition& condition) override
+    {
+        TrackingConfig config; // the [tracking] defaults of lumar.toml
+        config.threads = 1;    // as the AprilTag defaults (and the library's limit on Debian 12)
+        tracker_ = std::make_unique<TagTracker>(config, k_, sizesOf(condition));
+    }
+    std::vector<Found> detect(const Image8& luma) override
+    {
+        std::vector<Found> result;
+        for (const TagDetection& d : tracker_->detect(luma))
+            result.push_back({d.id, d.corners, d.hasPose, d.cameraFromMarker});
+        return result;
+    }
+
+private:
+    CameraIntrinsics k_;
+    std::unique_ptr<TagTracker> tracker_;
+};
+
+class AprilTagDefaultsDetector final : public Detector {
+public:
+    explicit AprilTagDefaultsDetector(const CameraIntrinsics& k)
+        : k_(k), family_(createAprilTagFamily("tag36h11")), detector_(apriltag_detector_create())
+    {
+        if (!detector_)
+            throw RuntimeError("cannot create the AprilTag detector");
+        apriltag_detector_add_family(detector_.get(), family_.get()); // the default 2 correctable bits
+    }
+    [[nodiscard]] const char* name() const override { return "apriltag"; }
+    void restart(const BenchCondition& condition) override { sizes_ = sizesOf(condition); }
+    std::vector<Found> detect(const Image8& luma) override
+    {
+        image_u8_t image{luma.width, luma.height, luma.width, const_cast<uint8_t*>(luma.data.data())};
+        zarray_t* detections = apriltag_detector_detect(detector_.get(), &image);
+        if (!detections)
+            throw RuntimeError("AprilTag detection failed");
+        std::vector<Found> result;
+        for (int i = 0; i < zarray_size(detections); ++i) {
+            apriltag_detection_t* det = nullptr;
+            zarray_get(detections, i, &det);
+            Found f;
+            f.id = det->id;
+            // The same half-pixel shift lumar's tracker applies (DESIGN.md §5), so that both are
+            // scored in OpenCV's pixel convention.
+            for (size_t c = 0; c < 4; ++c)
+                f.corners[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
+            solvePose(f, sizes_, k_);
+            result.push_back(f);
+        }
+        apriltag_detections_destroy(detections);
+        return result;
+    }
+    [[nodiscard]] const apriltag_detector_t& settings() const { return *detector_; }
+
+private:
+    struct DetectorDeleter {
+        void operator()(apriltag_detector_t* d) const { apriltag_detector_destroy(d); }
+    };
+    CameraIntrinsics k_;
+    AprilTagFamilyPtr family_; // outlives the detector, which borrows it
+    std::unique_ptr<apriltag_detector_t, DetectorDeleter> detector_;
+    TagSizes sizes_;
+};
+
+#ifdef LUMAR_HAVE_ARUCO
+class ArucoDetector final : public Detector {
+public:
+    explicit ArucoDetector(const CameraIntrinsics& k)
+        : k_(k), dictionary_(cv::aruco::getPredefinedDictionary(cv::aruco::DICT_APRILTAG_36h11)),
+          parameters_(cv::aruco::DetectorParameters::create())
+    {
+    }
+    [[nodiscard]] const char* name() const override { return "opencv_aruco"; }
+    void restart(const BenchCondition& condition) override { sizes_ = sizesOf(condition); }
+    std::vector<Found> detect(const Image8& luma) override
+    {
+        const cv::Mat image(luma.height, luma.width, CV_8UC1, const_cast<uint8_t*>(luma.data.data()));
+        std::vector<std::vector<cv::Point2f>> corners;
+        std::vector<int> ids;
+        cv::aruco::detectMarkers(image, dictionary_, corners, ids, parameters_);
+        std::vector<Found> result;
+        for (size_t i = 0; i < ids.size(); ++i) {
+            Found f;
+            f.id = ids[i];
+            // Both orders run the same way round the image; OpenCV's DICT_APRILTAG_36h11 codes
+            // are the library's turned by 180 degrees, so ArUco's first corner is AprilTag's third.
+            constexpr std::array<size_t, 4> kFromAruco{1, 0, 3, 2};
+            for (size_t c = 0; c < 4; ++c)
+                f.corners[c] = {corners[i][kFromAruco[c]].x, corners[i][kFromAruco[c]].y};
+            solvePose(f, sizes_, k_);
+            result.push_back(f);
+        }
+        return result;
+    }
+
+private:
+    CameraIntrinsics k_;
+    cv::Ptr<cv::aruco::Dictionary> dictionary_;
+    cv::Ptr<cv::aruco::DetectorParameters> parameters_;
+    TagSizes sizes_;
+};
+#endif
+
+double rotationErrorDeg(const glm::dmat3& a, const glm::dmat3& b)
+{
+    const glm::dmat3 d = glm::transpose(a) * b;
+    const double c = std::clamp((d[0][0] + d[1][1] + d[2][2] - 1.0) / 2.0, -1.0, 1.0);
+    // acos loses precision near 0: the antisymmetric part's norm keeps small angles exact.
+    const double s = 0.5 * glm::length(glm::dvec3(d[1][2] - d[2][1], d[2][0] - d[0][2], d[0][1] - d[1][0]));
+    return std::atan2(s, c) * 180.0 / kPi;
+}
+
+glm::dvec2 centreOf(const std::array<glm::dvec2, 4>& corners)
+{
+    return 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+}
+
+struct Tally {
+    int frames = 0, visible = 0, found = 0, falsePositives = 0;
+    double ms = 0.0;
+    std::vector<double> corner, rotation, translation;
+
+    void add(const Tally& o)
+    {
+        frames += o.frames;
+        visible += o.visible;
+        found += o.found;
+        falsePositives += o.falsePositives;
+        ms += o.ms;
+        corner.insert(corner.end(), o.corner.begin(), o.corner.end());
+        rotation.insert(rotation.end(), o.rotation.begin(), o.rotation.end());
+        translation.insert(translation.end(), o.translation.begin(), o.translation.end());
+    }
+};
+
+void score(const std::vector<BenchTagTruth>& truths, const std::vector<Found>& found, Tally& t)
+{
+    ++t.frames;
+    std::vector<bool> matched(truths.size(), false);
+    for (const BenchTagTruth& truth : truths)
+        t.visible += truth.visible ? 1 : 0;
+    for (const Found& f : found) {
+        size_t index = truths.size();
+        for (size_t i = 0; i < truths.size(); ++i)
+            if (truths[i].id == f.id &&
+                glm::length(centreOf(truths[i].corners) - centreOf(f.corners)) <= kMatchRadiusPx)
+                index = i;
+        if (index == truths.size() || matched[index]) {
+            ++t.falsePositives; // a wrong id, a wrong place, or a second detection of one tag
+            continue;
+        }
+        matched[index] = true;
+        const BenchTagTruth& truth = truths[index];
+        if (!truth.visible)
+            continue; // a tag cut by the image's edge: right, but not counted in recall
+        ++t.found;
+        for (size_t c = 0; c < 4; ++c)
+            t.corner.push_back(glm::length(f.corners[c] - truth.corners[c]));
+        if (f.hasPose) {
+            t.rotation.push_back(rotationErrorDeg(f.cameraFromMarker.R, truth.cameraFromMarker.R));
+            t.translation.push_back(100.0 * glm::length(f.cameraFromMarker.t - truth.cameraFromMarker.t) /
+                                    glm::length(truth.cameraFromMarker.t));
+        }
+    }
+}
+
+double mean(const std::vector<double>& v)
+{
+    if (v.empty())
+        return kNaN;
+    double sum = 0.0;
+    for (double x : v)
+        sum += x;
+    return sum / double(v.size());
+}
+
+double percentile95(std::vector<double> v)
+{
+    if (v.empty())
+        return kNaN;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(0.95 * double(v.size() - 1) + 0.5))];
+}
+
+TrackingBenchRow makeRow(const std::string& condition, const std::string& detector, const Tally& t)
+{
+    TrackingBenchRow r;
+    r.condition = condition;
+    r.detector = detector;
+    r.frames = t.frames;
+    r.visibleTags = t.visible;
+    r.found = t.found;
+    r.falsePositives = t.falsePositives;
+    r.recall = t.visible > 0 ? double(t.found) / t.visible : kNaN;
+    r.falsePositivesPerFrame = t.frames > 0 ? double(t.falsePositives) / t.frames : kNaN;
+    r.cornerMeanPx = mean(t.corner);
+    r.cornerP95Px = percentile95(t.corner);
+    r.rotationMeanDeg = mean(t.rotation);
+    r.rotationP95Deg = percentile95(t.rotation);
+    r.translationMeanPercent = mean(t.translation);
+    r.translationP95Percent = percentile95(t.translation);
+    r.msPerFrame = t.frames > 0 ? t.ms / t.frames : kNaN;
+    return r;
+}
+
+std::string fixed(double v, int decimals)
+{
+    if (!std::isfinite(v))
+        return "–";
+    char text[64];
+    const auto end = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed, decimals).ptr;
+    return std::string(text, end);
+}
+
+void appendJsonNumber(std::string& out, double v)
+{
+    if (!std::isfinite(v)) {
+        out += "null";
+        return;
+    }
+    char text[64];
+    out.append(text, std::to_chars(text, text + sizeof(text), v, std::chars_format::general, 6).ptr);
+}
+
+void appendJsonString(std::string& out, const std::string& s)
+{
+    out += '"';
+    for (char c : s) {
+        if (c == '"' || c == '\\')
+            out += '\\';
+        if (static_cast<unsigned char>(c) < 0x20)
+            continue; // the strings here are our own; control characters never occur
+        out += c;
+    }
+    out += '"';
+}
+
+} // namespace
+
+TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
+{
+    if (options.framesPerCondition < 1 || options.framesPerCondition > kMaxFramesPerCondition)
+        throw InputError("tracking bench: frames per condition must be in [1, 10000], got " +
+                         std::to_string(options.framesPerCondition));
+    const TrackingBenchScene scene(options.width, options.height, options.seed);
+    const CameraIntrinsics& k = scene.intrinsics();
+
+    auto aprilTag = std::make_unique<AprilTagDefaultsDetector>(k);
+    const apriltag_detector_t& defaults = aprilTag->settings();
+    TrackingBenchReport report;
+    report.options = options;
+    report.notes.push_back(std::to_string(options.width) + "x" + std::to_string(options.height) + ", fx " +
+                           fixed(k.fx, 1) + " px (70 deg horizontal field of view), " +
+                           std::to_string(options.framesPerCondition) + " frames per condition, seed " +
+                           std::to_string(options.seed) + "; tags rendered at 4x4 samples per pixel.");
+    report.notes.push_back(
+        "apriltag: libapriltag " LUMAR_APRILTAG_VERSION " with apriltag_detector_create()'s defaults (quad_decimate " +
+        fixed(defaults.quad_decimate, 1) + ", quad_sigma " + fixed(defaults.quad_sigma, 1) + ", refine_edges " +
+        std::to_string(int(defaults.refine_edges)) + ", decode_sharpening " + fixed(defaults.decode_sharpening, 2) +
+        ", nthreads " + std::to_string(defaults.nthreads) +
+        ", 2 correctable bits); its corners are shifted by -0.5 px into OpenCV's pixel convention, as lumar's tracker "
+        "does; pose from lumar's IPPE solver (solveTagPose) without history.");
+    report.notes.push_back("lumar: TagTracker with lumar.toml's [tracking] defaults (quad_decimate 2, ROI search "
+                           "around the last detections, a full-frame search at least every 10 frames, restarted per "
+                           "condition), 1 thread (libapriltag before 3.4.3 crashes with nthreads > 1); its own pose "
+                           "(IPPE, ambiguity resolved with the previous pose).");
+
+    std::vector<std::unique_ptr<Detector>> detectors;
+    detectors.push_back(std::make_unique<LumarDetector>(k));
+    detectors.push_back(std::move(aprilTag));
+#ifdef LUMAR_HAVE_ARUCO
+    detectors.push_back(std::make_unique<ArucoDetector>(k));
+    report.notes.push_back(
+        "opencv_aruco: OpenCV " CV_VERSION " contrib aruco, DICT_APRILTAG_36h11, "
+        "DetectorParameters defaults (no corner refinement), 1 thread (cv::setNumThreads(1)), corners as "
+        "returned (already in OpenCV's pixel convention); pose "
+        "from lumar's IPPE solver without history.");
+#else
+    report.notes.push_back("opencv_aruco: skipped, this build has no OpenCV aruco module (Debian: "
+                           "libopencv-contrib-dev).");
+#endif
+    for (const auto& d : detectors)
+        report.detectors.emplace_back(d->name());
+
+    // OpenCV's thread pool would give ArUco (and nothing else) several cores: detectors run
+    // with one, the rendering with all.
+    const int openCvThreads = cv::getNumThreads();
+    const auto& conditions = TrackingBenchScene::conditions();
+    std::vector<Tally> overall(detectors.size());
+    BenchFrame frame;
+    try {
+        for (size_t c = 0; c < conditions.size(); ++c) {
+            report.conditions.push_back(conditions[c].name);
+            std::vector<Tally> tallies(detectors.size());
+            for (auto& d : detectors)
+                d->restart(conditions[c]);
+            for (int f = 0; f < options.framesPerCondition; ++f) {
+                scene.render(c, f, options.framesPerCondition, frame);
+                cv::setNumThreads(1);
+                for (size_t d = 0; d < detectors.size(); ++d) {
+                    const auto start = std::chrono::steady_clock::now();
+                    const std::vector<Found> found = detectors[d]->detect(frame.luma);
+                    tallies[d].ms +=
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                    score(frame.tags, found, tallies[d]);
+                }
+                cv::setNumThreads(openCvThreads);
+            }
+            for (size_t d = 0; d < detectors.size(); ++d) {
+                report.rows.push_back(makeRow(conditions[c].name, detectors[d]->name(), tallies[d]));
+                overall[d].add(tallies[d]);
+            }
+        }
+    } catch (...) {
+        cv::setNumThreads(openCvThreads);
+        throw;
+    }
+    for (size_t d = 0; d < detectors.size(); ++d)
+        report.rows.push_back(makeRow("overall", detectors[d]->name(), overall[d]));
+    const double lumarMs = overall[0].ms, aprilTagMs = overall[1].ms;
+    report.lumarOverAprilTagTime = aprilTagMs > 0.0 ? lumarMs / aprilTagMs : kNaN;
+    return report;
+}
+
+std::string trackingBenchMarkdown(const TrackingBenchReport& report)
+{
+    std::string out = "| condition | detector | frames | tags | recall | FP/frame | corner mean px | corner p95 px | "
+                      "rot mean deg | rot p95 deg | trans mean % | trans p95 % | ms/frame |\n"
+                      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const TrackingBenchRow& r : report.rows) {
+        out += "| " + r.condition + " | " + r.detector + " | " + std::to_string(r.frames) + " | " +
+               std::to_string(r.visibleTags) + " | " + fixed(r.recall, 3) + " | " + fixed(r.falsePositivesPerFrame, 3) +
+               " | " + fixed(r.cornerMeanPx, 3) + " | " + fixed(r.cornerP95Px, 3) + " | " +
+               fixed(r.rotationMeanDeg, 2) + " | " + fixed(r.rotationP95Deg, 2) + " | " +
+               fixed(r.translationMeanPercent, 2) + " | " + fixed(r.translationP95Percent, 2) + " | " +
+               fixed(r.msPerFrame, 2) + " |\n";
+    }
+    out += "\nTime per frame, lumar / apriltag defaults (overall): " + fixed(report.lumarOverAprilTagTime, 3) +
+           " (target <= 0.5 with recall and corner error no worse)\n\n";
+    for (const std::string& note : report.notes)
+        out += "- " + note + "\n";
+    return out;
+}
+
+std::string trackingBenchJson(const TrackingBenchReport& report)
+{
+    std::string out = "{\"width\":" + std::to_string(report.options.width) +
+                      ",\"height\":" + std::to_string(report.options.height) +
+                      ",\"frames_per_condition\":" + std::to_string(report.options.framesPerCondition) +
+                      ",\"seed\":" + std::to_string(report.options.seed) + ",\"conditions\":[";
+    for (size_t i = 0; i < report.conditions.size(); ++i) {
+        out += i ? "," : "";
+        appendJsonString(out, report.conditions[i]);
+    }
+    out += "],\"detectors\":[";
+    for (size_t i = 0; i < report.detectors.size(); ++i) {
+        out += i ? "," : "";
+        appendJsonString(out, report.detectors[i]);
+    }
+    out += "],\"rows\":[";
+    for (size_t i = 0; i < report.rows.size(); ++i) {
+        const TrackingBenchRow& r = report.rows[i];
+        out += i ? ",{\"condition\":" : "{\"condition\":";
+        appendJsonString(out, r.condition);
+        out += ",\"detector\":";
+        appendJsonString(out, r.detector);
+        out += ",\"frames\":" + std::to_string(r.frames) + ",\"visible_tags\":" + std::to_string(r.visibleTags) +
+               ",\"found\":" + std::to_string(r.found) + ",\"false_positives\":" + std::to_string(r.falsePositives);
+        const std::pair<const char*, double> numbers[] = {{"recall", r.recall},
+                                                          {"false_positives_per_frame", r.falsePositivesPerFrame},
+                                                          {"corner_mean_px", r.cornerMeanPx},
+                                                          {"corner_p95_px", r.cornerP95Px},
+                                                          {"rotation_mean_deg", r.rotationMeanDeg},
+                                                          {"rotation_p95_deg", r.rotationP95Deg},
+                                                          {"translation_mean_percent", r.translationMeanPercent},
+                                                          {"translation_p95_percent", r.translationP95Percent},
+                                                          {"ms_per_frame", r.msPerFrame}};
+        for (const auto& [key, value] : numbers) {
+            out += std::string(",\"") + key + "\":";
+            appendJsonNumber(out, value);
+        }
+        out += "}";
+    }
+    out += "],\"lumar_over_apriltag_time\":";
+    appendJsonNumber(out, report.lumarOverAprilTagTime);
+    out += ",\"notes\":[";
+    for (size_t i = 0; i < report.notes.size(); ++i) {
+        out += i ? "," : "";
+        appendJsonString(out, report.notes[i]);
+    }
+    out += "]}\n";
+    return out;
+}
+
+} // namespace lumar

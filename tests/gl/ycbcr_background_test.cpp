@@ -1,0 +1,185 @@
+// The GPU's YCbCr background (background_ycbcr.frag) against the CPU converter the capture
+// thread uses (ycbcr_to_rgb): NV12 and YUYV, both matrices, both ranges, colour bars and
+// random bytes (footroom/headroom excursions included), within one code value per channel.
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <linux/videodev2.h>
+
+#include "capture/v4l2/ycbcr_to_rgb.h"
+#include "core/error.h"
+#include "gl_test_support.h"
+#include "vcam/vcam_pattern.h"
+
+namespace lumar {
+namespace {
+
+// Even, but rows of the half-width RG8 plane are not 4-byte aligned; the padded stride is
+// not a multiple of 4 either (the unpack row length must carry it).
+constexpr int kWidth = 322;
+constexpr int kHeight = 202;
+constexpr size_t kPadding = 6;
+
+struct Case {
+    YCbCrLayout layout;
+    YCbCrColorimetry colorimetry;
+};
+
+std::string describe(const Case& c)
+{
+    return std::string(c.layout == YCbCrLayout::Nv12 ? "NV12" : "YUYV") +
+           (c.colorimetry.matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601") +
+           (c.colorimetry.fullRange ? " full" : " limited");
+}
+
+// A frame as the driver would deliver it: rows of `bytesPerLine`, NV12's chroma after Y.
+struct DriverFrame {
+    std::vector<uint8_t> bytes;
+    size_t bytesPerLine = 0;
+};
+
+DriverFrame makeFrame(const Case& c, bool random, unsigned seed)
+{
+    const bool nv12 = c.layout == YCbCrLayout::Nv12;
+    DriverFrame frame;
+    frame.bytesPerLine = size_t(kWidth) * (nv12 ? 1 : 2) + kPadding;
+    frame.bytes.resize(frame.bytesPerLine * size_t(kHeight) * (nv12 ? 3 : 2) / 2);
+    if (random) {
+        std::mt19937 engine(seed);
+        std::uniform_int_distribution<int> byte(0, 255);
+        for (uint8_t& v : frame.bytes)
+            v = uint8_t(byte(engine));
+        return frame;
+    }
+    vcam::PatternFormat format;
+    format.pixelFormat = nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV;
+    format.width = kWidth;
+    format.height = kHeight;
+    format.bytesPerLine = frame.bytesPerLine;
+    format.bt709 = c.colorimetry.matrix == YCbCrMatrix::Bt709;
+    format.fullRange = c.colorimetry.fullRange;
+    vcam::drawPattern(format, 3, frame.bytes.data());
+    return frame;
+}
+
+// The renderer's input: the driver's planes with their padded strides.
+YCbCrImage planesOf(const Case& c, const DriverFrame& frame)
+{
+    YCbCrImage image;
+    image.layout = c.layout;
+    image.width = kWidth;
+    image.height = kHeight;
+    image.colorimetry = c.colorimetry;
+    const size_t planeSize = frame.bytesPerLine * size_t(kHeight);
+    image.stride0 = frame.bytesPerLine;
+    if (c.layout == YCbCrLayout::Nv12) {
+        image.plane0.assign(frame.bytes.begin(), frame.bytes.begin() + std::ptrdiff_t(planeSize));
+        image.plane1.assign(frame.bytes.begin() + std::ptrdiff_t(planeSize), frame.bytes.end());
+        image.stride1 = frame.bytesPerLine;
+    } else {
+        image.plane0 = frame.bytes;
+    }
+    return image;
+}
+
+Image8 cpuReference(const Case& c, const DriverFrame& frame)
+{
+    const YCbCrConverter converter(c.colorimetry);
+    Image8 rgb, luma;
+    if (c.layout == YCbCrLayout::Nv12)
+        converter.convertNv12(frame.bytes.data(), frame.bytesPerLine,
+                              frame.bytes.data() + frame.bytesPerLine * size_t(kHeight), frame.bytesPerLine, kWidth,
+                              kHeight, rgb, luma);
+    else
+        converter.convertYuyv(frame.bytes.data(), frame.bytesPerLine, kWidth, kHeight, rgb, luma);
+    return rgb;
+}
+
+std::vector<Case> allCases()
+{
+    std::vector<Case> cases;
+    for (YCbCrLayout layout : {YCbCrLayout::Nv12, YCbCrLayout::Yuyv})
+        for (YCbCrMatrix matrix : {YCbCrMatrix::Bt601, YCbCrMatrix::Bt709})
+            for (bool fullRange : {false, true})
+                cases.push_back({layout, {matrix, fullRange}});
+    return cases;
+}
+
+// Renders every case (colour bars, then random bytes) and compares with the CPU converter.
+void expectMatchesCpu(SceneRenderer& renderer)
+{
+    const CameraIntrinsics k = defaultIntrinsics(kWidth, kHeight);
+    unsigned seed = 1;
+    for (const Case& c : allCases())
+        for (bool random : {false, true}) {
+            const DriverFrame frame = makeFrame(c, random, seed++);
+            const Image8 expected = cpuReference(c, frame);
+            Image8 out;
+            renderer.render(planesOf(c, frame), k, {});
+            renderer.readback(out);
+            ASSERT_EQ(out.width, kWidth);
+            ASSERT_EQ(out.height, kHeight);
+            ASSERT_EQ(out.channels, 3);
+            int worst = 0;
+            size_t off = 0;
+            for (size_t i = 0; i < out.data.size(); ++i) {
+                const int difference = std::abs(int(out.data[i]) - int(expected.data[i]));
+                worst = std::max(worst, difference);
+                off += difference != 0;
+            }
+            EXPECT_LE(worst, 1) << describe(c) << (random ? " random" : " bars");
+            // Rounding ties aside the two agree: most bytes are identical.
+            EXPECT_LT(double(off), 0.001 * double(out.data.size())) << describe(c) << (random ? " random" : " bars");
+        }
+}
+
+TEST(YcbcrBackground, MatchesTheCpuConverterInEveryLayoutMatrixAndRange)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    expectMatchesCpu(renderer);
+}
+
+TEST(YcbcrBackground, MatchesTheCpuConverterWithMultisampling)
+{
+    RenderOptions options;
+    options.samples = 4;
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
+    expectMatchesCpu(renderer);
+}
+
+// The colour bars land where the pattern puts them: 75 % white in the first bar, 75 % blue
+// in the seventh (BT.709 limited, YUYV), so the comparison above is not of two blank images.
+TEST(YcbcrBackground, ColourBarsComeOutAtSeventyFivePercent)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const Case c{YCbCrLayout::Yuyv, {YCbCrMatrix::Bt709, false}};
+    Image8 out;
+    renderer.render(planesOf(c, makeFrame(c, false, 0)), defaultIntrinsics(kWidth, kHeight), {});
+    renderer.readback(out);
+    const int barWidth = kWidth / 8;
+    const uint8_t* white = out.at(barWidth / 2, kHeight / 4);
+    const uint8_t* blue = out.at(6 * barWidth + barWidth / 2, kHeight / 4);
+    for (int channel = 0; channel < 3; ++channel)
+        EXPECT_NEAR(white[channel], 191, 2) << channel;
+    EXPECT_NEAR(blue[0], 0, 2);
+    EXPECT_NEAR(blue[1], 0, 2);
+    EXPECT_NEAR(blue[2], 191, 2);
+}
+
+TEST(YcbcrBackground, WrongSizeOrShortPlanesAreInputErrors)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const CameraIntrinsics k = defaultIntrinsics(kWidth, kHeight);
+    const Case c{YCbCrLayout::Nv12, {}};
+    YCbCrImage image = planesOf(c, makeFrame(c, true, 9));
+    image.width = kWidth - 2;
+    EXPECT_THROW(renderer.render(image, k, {}), InputError);
+    image.width = kWidth;
+    image.plane1.resize(image.plane1.size() / 2);
+    EXPECT_THROW(renderer.render(image, k, {}), InputError);
+    EXPECT_THROW(renderer.render(YCbCrImage{}, k, {}), InputError);
+}
+
+} // namespace
+} // namespace lumar
