@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "config/config.h"
+#include "config_fixture.h"
 #include "core/error.h"
 
 namespace lumar {
@@ -13,38 +14,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ConfigTest : public ::testing::Test {
+class ConfigTest : public test::ConfigFixture {
 protected:
     void SetUp() override
     {
-        dir_ = fs::temp_directory_path() /
-               ("lumar-config-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
+        test::ConfigFixture::SetUp();
         fs::create_directories(dir_ / "clips");
-        fs::copy_file(fs::path(LUMAR_TEST_DATA_DIR) / "models/BoxTextured.glb", dir_ / "box.glb");
         std::ofstream(dir_ / "env.hdr") << "#?RADIANCE\n";
         std::ofstream(dir_ / "clip.y4m") << "YUV4MPEG2 W16 H16\n";
     }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    Config parse(const std::string& text) { return parseConfig(text, "test.toml", dir_); }
-
-    // Parses `text`, expects an InputError starting with `prefix`, returns its message.
-    std::string expectError(const std::string& text, const std::string& prefix)
-    {
-        try {
-            (void)parse(text);
-        } catch (const InputError& e) {
-            const std::string message = e.what();
-            EXPECT_EQ(message.rfind(prefix, 0), 0u) << "message: " << message;
-            EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
-            return message;
-        }
-        ADD_FAILURE() << "no error for:\n" << text;
-        return {};
-    }
-
-    fs::path dir_;
 };
 
 const std::string kObject = "[[markers]]\nid = 0\nsize = 0.16\n[[objects]]\nmodel = \"box.glb\"\nmarker = 0\n";

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "config/config.h"
+#include "config_fixture.h"
 #include "core/error.h"
 
 namespace lumar {
@@ -14,34 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class MapConfigTest : public ::testing::Test {
+class MapConfigTest : public test::ConfigFixture {
 protected:
-    void SetUp() override
-    {
-        dir_ = fs::temp_directory_path() /
-               ("lumar-map-config-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        fs::copy_file(fs::path(LUMAR_TEST_DATA_DIR) / "models/BoxTextured.glb", dir_ / "box.glb");
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    Config parse(const std::string& text) { return parseConfig(text, "maps.toml", dir_); }
-
-    void expectError(const std::string& text, const std::string& prefix)
-    {
-        try {
-            (void)parse(text);
-        } catch (const InputError& e) {
-            const std::string message = e.what();
-            EXPECT_EQ(message.rfind(prefix, 0), 0u) << "message: " << message;
-            EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
-            return;
-        }
-        ADD_FAILURE() << "no error for:\n" << text;
-    }
-
-    fs::path dir_;
+    MapConfigTest() : test::ConfigFixture("maps.toml") {}
 };
 
 // Lines 1-12.

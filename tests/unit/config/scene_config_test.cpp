@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "config/config.h"
+#include "config_fixture.h"
 #include "core/error.h"
 
 namespace lumar {
@@ -14,35 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SceneConfigTest : public ::testing::Test {
-protected:
-    void SetUp() override
-    {
-        dir_ = fs::temp_directory_path() /
-               ("lumar-scene-config-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-        fs::copy_file(fs::path(LUMAR_TEST_DATA_DIR) / "models/BoxTextured.glb", dir_ / "box.glb");
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    Config parse(const std::string& text) { return parseConfig(text, "test.toml", dir_); }
-
-    void expectError(const std::string& text, const std::string& prefix)
-    {
-        try {
-            (void)parse(text);
-        } catch (const InputError& e) {
-            const std::string message = e.what();
-            EXPECT_EQ(message.rfind(prefix, 0), 0u) << "message: " << message;
-            EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
-            return;
-        }
-        ADD_FAILURE() << "no error for:\n" << text;
-    }
-
-    fs::path dir_;
-};
+class SceneConfigTest : public test::ConfigFixture {};
 
 const std::string kMarker = "[[markers]]\nid = 0\nsize = 0.16\n";
 
