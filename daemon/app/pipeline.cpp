@@ -212,11 +212,26 @@ bool Pipeline::step(FrameReport& report)
     report.times.captureMs = millisecondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    report.detections = tracker_->detect(frame_.luma);
-    updateMarkers(report.detections, frame_.sequence, frame_.timestampNs);
-    report.maps = tracker_->detectMaps(report.detections);
-    updateMaps(report.maps, frame_.sequence, frame_.timestampNs);
-    report.times.detectMs = millisecondsSince(start);
+    int64_t poseTimeNs = frame_.timestampNs;
+    if (worker_) {
+        // Never wait: hand the frame over and use the newest finished detection.
+        worker_->submit(frame_.luma, frame_.sequence, frame_.timestampNs);
+        if (worker_->take(latest_)) {
+            updateMarkers(latest_.detections, latest_.sequence, latest_.timestampNs);
+            updateMaps(latest_.maps, latest_.sequence, latest_.timestampNs);
+        }
+        report.detections = latest_.detections;
+        report.maps = latest_.maps;
+        report.times.detectMs = latest_.detectMs; // on the worker, not in this loop
+        // The frame shows up about one render + readback after its capture.
+        poseTimeNs += int64_t(displayLatencyMs_ * 1e6);
+    } else {
+        report.detections = tracker_->detect(frame_.luma);
+        updateMarkers(report.detections, frame_.sequence, frame_.timestampNs);
+        report.maps = tracker_->detectMaps(report.detections);
+        updateMaps(report.maps, frame_.sequence, frame_.timestampNs);
+        report.times.detectMs = millisecondsSince(start);
+    }
 
     start = std::chrono::steady_clock::now();
     drawItems_.clear();
@@ -227,7 +242,7 @@ bool Pipeline::step(FrameReport& report)
         if (it == markers_.end() || frame_.sequence - it->second.lastSeen > kMarkerHoldFrames)
             continue;
         // The configured object's index names its environment map from frame to frame.
-        drawItems_.push_back({object.model, it->second.cameraFromMarker.matrix() * object.markerFromModel, int(i)});
+        drawItems_.push_back({object.model, poseAt(it->second, poseTimeNs).matrix() * object.markerFromModel, int(i)});
         if (!environmentAnchor)
             environmentAnchor = &it->second;
     }
@@ -235,10 +250,10 @@ bool Pipeline::step(FrameReport& report)
         const auto it = markers_.find(phantom.marker);
         if (it != markers_.end() && frame_.sequence - it->second.lastSeen <= kMarkerHoldFrames)
             drawItems_.push_back(
-                {phantom.model, it->second.cameraFromMarker.matrix() * phantom.markerFromModel, -1, true});
+                {phantom.model, poseAt(it->second, poseTimeNs).matrix() * phantom.markerFromModel, -1, true});
     }
     if (environmentAnchor) {
-        const glm::dmat3 markerFromCamera = glm::transpose(environmentAnchor->cameraFromMarker.R);
+        const glm::dmat3 markerFromCamera = glm::transpose(poseAt(*environmentAnchor, poseTimeNs).R);
         renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
     }
     // A source that kept the camera's YCbCr planes (v4l2 with camera.convert = "gpu") leaves
@@ -253,7 +268,22 @@ bool Pipeline::step(FrameReport& report)
     start = std::chrono::steady_clock::now();
     renderer_->readback(output_);
     report.times.readbackMs = millisecondsSince(start);
+    const double latencyMs = report.times.renderMs + report.times.readbackMs;
+    displayLatencyMs_ = displayLatencyMs_ > 0.0 ? 0.9 * displayLatencyMs_ + 0.1 * latencyMs : latencyMs;
     return true;
+}
+
+void Pipeline::detectInBackground()
+{
+    if (!worker_)
+        worker_ = std::make_unique<DetectionWorker>(*tracker_);
+}
+
+Pose Pipeline::poseAt(const MarkerState& marker, int64_t timestampNs) const
+{
+    // The filter extrapolates with its velocities; unfiltered poses stay as measured.
+    return config_.tracking.filter && marker.filter.initialised() ? marker.filter.predict(timestampNs)
+                                                                  : marker.cameraFromMarker;
 }
 
 RenderStats Pipeline::renderStats() const

@@ -11,6 +11,7 @@
 #include "config/config.h"
 #include "core/camera_model.h"
 #include "core/frame.h"
+#include "detection_worker.h"
 #include "gles_renderer/scene_renderer.h"
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
@@ -45,6 +46,11 @@ public:
     // Processes the next camera frame; false at the end of a finite source.
     bool step(FrameReport& report);
 
+    // From now on detection runs on its own thread and step() never waits for it: each frame
+    // is rendered with the newest detections available, the poses predicted to the frame's
+    // expected display time. (`lumar run`; `lumar render` stays frame-exact.)
+    void detectInBackground();
+
     [[nodiscard]] const Image8& output() const { return output_; }
     [[nodiscard]] const Frame& cameraFrame() const { return frame_; }
     [[nodiscard]] const CameraIntrinsics& intrinsics() const { return intrinsics_; }
@@ -63,6 +69,9 @@ private:
     };
 
     void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
+    // The marker's pose at `timestampNs`: predicted by its filter (the latest pose when the
+    // time is that of its last update).
+    [[nodiscard]] Pose poseAt(const MarkerState& marker, int64_t timestampNs) const;
     // Maps share markers_ (and its filtering) under keys no tag id can take.
     static int mapKey(int mapIndex) { return -1 - mapIndex; }
     void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
@@ -71,6 +80,10 @@ private:
     std::unique_ptr<CaptureSource> capture_;
     CameraIntrinsics intrinsics_;
     std::unique_ptr<TagTracker> tracker_;
+    // After tracker_: destroyed (joined) before the tracker it uses.
+    std::unique_ptr<DetectionWorker> worker_;
+    DetectionWorker::Result latest_;
+    double displayLatencyMs_ = 0.0; // running mean of render + readback: capture to display
     std::unique_ptr<SceneRenderer> renderer_;
     std::vector<PlacedObject> objects_;
     std::vector<PlacedObject> phantoms_; // markerFromModel scales the unit cube to the box

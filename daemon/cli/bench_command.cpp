@@ -18,7 +18,8 @@ namespace lumar {
 namespace {
 
 constexpr const char* kHelp =
-    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--no-profile] [--log-level SPEC]
+    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--no-profile] [--sync-detection]
+                   [--log-level SPEC]
        lumar bench --tracking [options]   (see 'lumar bench --tracking --help')
 
 Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
@@ -30,6 +31,8 @@ map, glossy prefilter, shading of the frame) by waiting for the GPU between them
 GPU would otherwise overlap with the next stage; --no-profile measures without the waits.
   --json         one JSON object instead of a table
   --no-profile   do not split the render stage
+  --sync-detection   detect in the render loop (as `lumar render` does) instead of on a
+                     worker thread (as `lumar run` does); "detect" is then time in the loop
 )";
 
 double percentile(std::vector<double> values, double p)
@@ -69,7 +72,7 @@ int benchCommand(const Args& args)
     if (std::find(args.begin(), args.end(), "--tracking") != args.end())
         return trackingBenchCommand(args);
     const CommandLine cl(args,
-                         {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"no-profile", false}, {"log-level"}});
+                         {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"no-profile", false}, {"sync-detection", false}, {"log-level"}});
     if (cl.helpRequested()) {
         std::fputs(kHelp, stdout);
         return kExitOk;
@@ -82,6 +85,9 @@ int benchCommand(const Args& args)
     const Config config = configFromCommandLine(cl);
     const bool profile = !cl.has("no-profile");
     Pipeline pipeline(config, profile);
+    // As the daemon runs: detection on its own thread, never waited for.
+    if (!cl.has("sync-detection"))
+        pipeline.detectInBackground();
     FrameReport report;
     for (long i = 0; i < warmup; ++i)
         if (!pipeline.step(report))

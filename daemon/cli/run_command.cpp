@@ -119,6 +119,8 @@ struct RunningScene {
         : pipeline(std::make_unique<Pipeline>(config)),
           sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps())), statusFile(config.output.statusPath)
     {
+        // The daemon renders every frame without waiting for detection.
+        pipeline->detectInBackground();
     }
 };
 
