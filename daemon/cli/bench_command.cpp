@@ -71,8 +71,13 @@ int benchCommand(const Args& args)
     // The tracking benchmark has its own options (tracking_bench_command.cpp).
     if (std::find(args.begin(), args.end(), "--tracking") != args.end())
         return trackingBenchCommand(args);
-    const CommandLine cl(args,
-                         {{"config"}, {"frames"}, {"warmup"}, {"json", false}, {"no-profile", false}, {"sync-detection", false}, {"log-level"}});
+    const CommandLine cl(args, {{"config"},
+                                {"frames"},
+                                {"warmup"},
+                                {"json", false},
+                                {"no-profile", false},
+                                {"sync-detection", false},
+                                {"log-level"}});
     if (cl.helpRequested()) {
         std::fputs(kHelp, stdout);
         return kExitOk;
