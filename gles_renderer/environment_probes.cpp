@@ -116,7 +116,8 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const Env
     updates_.clear();
     if (options_.policy == EnvironmentMapPolicy::OnChange)
         describeScene(items, environment, scene_);
-    std::vector<size_t> owners; // items with a dynamic map, in order
+    std::vector<size_t>& owners = owners_; // items with a dynamic map, in order
+    owners.clear();
     for (size_t i = 0; i < items.size(); ++i)
         if (items[i].object >= 0 && !items[i].phantom)
             owners.push_back(i);

@@ -64,6 +64,7 @@ private:
     // Per-frame scratch, kept to avoid allocating every frame.
     std::vector<const IblMaps*> maps_;
     std::vector<size_t> updates_;
+    std::vector<size_t> owners_;
     std::vector<DrawItem> faceItems_;
     std::vector<const IblMaps*> faceMaps_;
 };
