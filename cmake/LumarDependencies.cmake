@@ -12,6 +12,9 @@ pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)
 pkg_check_modules(APRILTAG REQUIRED IMPORTED_TARGET apriltag)
 pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+# The KMS display sink: DRM/KMS modesetting (libdrm) and scan-out buffers for EGL (GBM).
+pkg_check_modules(LIBDRM REQUIRED IMPORTED_TARGET libdrm)
+pkg_check_modules(GBM REQUIRED IMPORTED_TARGET gbm)
 # MJPEG cameras (decode) and the virtual camera's MJPEG output (encode); Debian 12 has 2.1.5.
 pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET libturbojpeg)
 # libcamera cameras (CSI sensors behind an ISP; UVC through its uvcvideo pipeline); Debian 12

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "gles_renderer/gl_check.h"
 #include "gles_renderer/shader_program.h"
 
@@ -23,26 +24,25 @@ void allocateTexture(const GlTexture& texture, GLenum internalFormat, int width,
 
 // Uploads `rows` rows of a plane whose rows are `stride` bytes apart, as `width` texels of
 // `texelBytes` each; throws InputError when the plane is too small.
-void uploadPlane(const std::vector<uint8_t>& plane, size_t stride, int width, int rows, size_t texelBytes,
+void uploadPlane(const uint8_t* plane, size_t planeSize, size_t stride, int width, int rows, size_t texelBytes,
                  GLenum format, const char* what)
 {
     const size_t rowBytes = size_t(width) * texelBytes;
-    if (stride < rowBytes || plane.size() < stride * size_t(rows - 1) + rowBytes)
-        throw InputError(std::string("YCbCr background: the ") + what + " plane holds " + std::to_string(plane.size()) +
+    if (plane == nullptr || stride < rowBytes || planeSize < stride * size_t(rows - 1) + rowBytes)
+        throw InputError(std::string("YCbCr background: the ") + what + " plane holds " + std::to_string(planeSize) +
                          " bytes with stride " + std::to_string(stride) + ", " + std::to_string(rows) + " rows of " +
                          std::to_string(rowBytes) + " bytes are needed");
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     if (stride % texelBytes == 0) {
         // The padding is whole texels: one upload skips it.
         glPixelStorei(GL_UNPACK_ROW_LENGTH, GLint(stride / texelBytes));
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, rows, format, GL_UNSIGNED_BYTE, plane.data());
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, rows, format, GL_UNSIGNED_BYTE, plane);
         glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
         return;
     }
     // A stride that splits a texel (YUYV rows padded by 2 bytes) cannot be a row length.
     for (int row = 0; row < rows; ++row)
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, row, width, 1, format, GL_UNSIGNED_BYTE,
-                        plane.data() + stride * size_t(row));
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, row, width, 1, format, GL_UNSIGNED_BYTE, plane + stride * size_t(row));
 }
 
 } // namespace
@@ -76,8 +76,9 @@ void BackgroundPass::upload(GLuint texture, const Image8& rgb) const
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data.data());
 }
 
-void BackgroundPass::draw(const Image8& rgb) const
+void BackgroundPass::draw(const Image8& rgb)
 {
+    releaseHeldBuffer();
     if (rgb.width != width_ || rgb.height != height_ || rgb.channels != 3 ||
         rgb.data.size() != size_t(width_) * size_t(height_) * 3) {
         throw InputError("background image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + "x" +
@@ -134,18 +135,28 @@ void BackgroundPass::draw(const YCbCrImage& ycbcr)
         throw InputError("YCbCr background is " + std::to_string(ycbcr.width) + "x" + std::to_string(ycbcr.height) +
                          (ycbcr.empty() ? " without a layout" : "") + ", the renderer needs " + std::to_string(width_) +
                          "x" + std::to_string(height_) + " (even width; even height for NV12)");
+    releaseHeldBuffer();
     prepareYcbcr(ycbcr.layout);
     const bool nv12 = ycbcr.layout == YCbCrLayout::Nv12;
-    glActiveTexture(GL_TEXTURE0 + kTextureUnit);
-    glBindTexture(GL_TEXTURE_2D, lumaTexture_.name());
-    if (nv12)
-        uploadPlane(ycbcr.plane0, ycbcr.stride0, width_, height_, 1, GL_RED, "Y");
-    glActiveTexture(GL_TEXTURE0 + kChromaTextureUnit);
-    glBindTexture(GL_TEXTURE_2D, chromaTexture_.name());
-    if (nv12)
-        uploadPlane(ycbcr.plane1, ycbcr.stride1, width_ / 2, height_ / 2, 2, GL_RG, "CbCr");
-    else
-        uploadPlane(ycbcr.plane0, ycbcr.stride0, width_ / 2, height_, 4, GL_RGBA, "YUYV");
+    const DmabufTextures* imported = importer_ ? importer_->texturesFor(ycbcr) : nullptr;
+    if (imported != nullptr) {
+        glActiveTexture(GL_TEXTURE0 + kTextureUnit);
+        glBindTexture(GL_TEXTURE_2D, imported->luma != 0 ? imported->luma : lumaTexture_.name());
+        glActiveTexture(GL_TEXTURE0 + kChromaTextureUnit);
+        glBindTexture(GL_TEXTURE_2D, imported->chroma);
+    } else {
+        glActiveTexture(GL_TEXTURE0 + kTextureUnit);
+        glBindTexture(GL_TEXTURE_2D, lumaTexture_.name());
+        if (nv12)
+            uploadPlane(ycbcr.planeData(0), ycbcr.planeSize(0), ycbcr.stride0, width_, height_, 1, GL_RED, "Y");
+        glActiveTexture(GL_TEXTURE0 + kChromaTextureUnit);
+        glBindTexture(GL_TEXTURE_2D, chromaTexture_.name());
+        if (nv12)
+            uploadPlane(ycbcr.planeData(1), ycbcr.planeSize(1), ycbcr.stride1, width_ / 2, height_ / 2, 2, GL_RG,
+                        "CbCr");
+        else
+            uploadPlane(ycbcr.planeData(0), ycbcr.planeSize(0), ycbcr.stride0, width_ / 2, height_, 4, GL_RGBA, "YUYV");
+    }
 
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
@@ -155,6 +166,29 @@ void BackgroundPass::draw(const YCbCrImage& ycbcr)
     glUniform1i(fullRangeLocation_, ycbcr.colorimetry.fullRange ? 1 : 0);
     glBindVertexArray(emptyVertexArray_.name());
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (imported != nullptr) {
+        heldBuffer_ = ycbcr.buffer;
+        heldFence_ = GlFence::insert();
+        ++importedFrames_;
+    }
+}
+
+void BackgroundPass::enableDmabufImport(const EglDisplay& display)
+{
+    importer_ = std::make_unique<DmabufImporter>(display);
+}
+
+void BackgroundPass::releaseHeldBuffer()
+{
+    if (!heldBuffer_)
+        return;
+    // A frame's draw is long done by the next frame's; the bound only guards a hung GPU,
+    // which the watchdog catches (the buffer is then released anyway).
+    constexpr uint64_t kWaitNs = 1'000'000'000;
+    if (!heldFence_.wait(kWaitNs))
+        LUMAR_LOG(Render, Warn) << "the GPU is still reading a camera buffer after 1 s; releasing it anyway";
+    heldFence_.reset();
+    heldBuffer_.reset();
 }
 
 } // namespace lumar

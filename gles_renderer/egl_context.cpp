@@ -2,6 +2,7 @@
 
 #include <mutex>
 #include <utility>
+#include <vector>
 
 #include <EGL/eglext.h>
 
@@ -63,36 +64,51 @@ std::shared_ptr<EglDisplay> EglDisplay::surfaceless()
     const std::lock_guard lock(sharedDisplayMutex);
     if (auto existing = sharedDisplay.lock())
         return existing;
+    auto display = initialise(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "surfaceless");
+    sharedDisplay = display;
+    return display;
+}
 
+std::shared_ptr<EglDisplay> EglDisplay::gbm(void* gbmDevice)
+{
+    return initialise(EGL_PLATFORM_GBM_KHR, gbmDevice, "GBM");
+}
+
+std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativeDisplay, const char* what)
+{
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     const std::string_view client = clientExtensions ? clientExtensions : "";
     const auto getPlatformDisplay =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (!extensionListHas(client, "EGL_EXT_platform_base") ||
-        !extensionListHas(client, "EGL_MESA_platform_surfaceless") || !getPlatformDisplay) {
-        throw RuntimeError("no EGL display for the surfaceless platform (is Mesa's libegl-mesa0 installed?)");
-    }
+    const bool platformKnown =
+        platform == EGL_PLATFORM_SURFACELESS_MESA
+            ? extensionListHas(client, "EGL_MESA_platform_surfaceless")
+            : extensionListHas(client, "EGL_KHR_platform_gbm") || extensionListHas(client, "EGL_MESA_platform_gbm");
+    const std::string missing =
+        std::string("no EGL display for the ") + what + " platform (is Mesa's libegl-mesa0 installed?)";
+    if (!extensionListHas(client, "EGL_EXT_platform_base") || !platformKnown || !getPlatformDisplay)
+        throw RuntimeError(missing);
 
     std::shared_ptr<EglDisplay> display(new EglDisplay());
-    display->display_ = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    display->display_ = getPlatformDisplay(platform, nativeDisplay, nullptr);
     if (display->display_ == EGL_NO_DISPLAY)
-        throw RuntimeError("no EGL display for the surfaceless platform (is Mesa's libegl-mesa0 installed?)");
+        throw RuntimeError(missing);
     EGLint major = 0, minor = 0;
     if (!eglInitialize(display->display_, &major, &minor)) {
         display->display_ = EGL_NO_DISPLAY;
-        throw RuntimeError("cannot initialise the surfaceless EGL display: " + eglErrorName(eglGetError()));
+        throw RuntimeError(std::string("cannot initialise the ") + what +
+                           " EGL display: " + eglErrorName(eglGetError()));
     }
     display->major_ = major;
     display->minor_ = minor;
     const char* extensions = eglQueryString(display->display_, EGL_EXTENSIONS);
     display->extensions_ = extensions ? extensions : "";
-    sharedDisplay = display;
     return display;
 }
 
 EglDisplay::EglDisplay(EglDisplay&& other) noexcept
-    : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), major_(other.major_), minor_(other.minor_),
-      extensions_(std::move(other.extensions_))
+    : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), windowConfig_(other.windowConfig_), major_(other.major_),
+      minor_(other.minor_), extensions_(std::move(other.extensions_))
 {
 }
 
@@ -101,6 +117,7 @@ EglDisplay& EglDisplay::operator=(EglDisplay&& other) noexcept
     if (this != &other) {
         terminate();
         display_ = std::exchange(other.display_, EGL_NO_DISPLAY);
+        windowConfig_ = other.windowConfig_;
         major_ = other.major_;
         minor_ = other.minor_;
         extensions_ = std::move(other.extensions_);
@@ -134,10 +151,13 @@ EglContext::EglContext(std::shared_ptr<EglDisplay> display) : display_(std::move
         throw RuntimeError("no OpenGL ES 3 context: eglBindAPI(EGL_OPENGL_ES_API) failed: " +
                            eglErrorName(eglGetError()));
 
-    // A context needs no config where EGL_KHR_no_config_context exists; otherwise any
-    // ES 3 config will do, since nothing is ever drawn to an EGL surface.
+    // A context needs no config where EGL_KHR_no_config_context exists; otherwise the window
+    // config where there is a window to draw to, else any ES 3 config (nothing is drawn to
+    // an EGL surface then).
     EGLConfig config = EGL_NO_CONFIG_KHR;
-    if (!display_->hasExtension("EGL_KHR_no_config_context")) {
+    if (!display_->hasExtension("EGL_KHR_no_config_context") && display_->windowConfig()) {
+        config = display_->windowConfig();
+    } else if (!display_->hasExtension("EGL_KHR_no_config_context")) {
         const EGLint configAttributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE, 0, EGL_NONE};
         EGLint count = 0;
         if (!eglChooseConfig(dpy, configAttributes, &config, 1, &count) || count < 1)
@@ -184,12 +204,96 @@ void EglContext::destroy()
     context_ = EGL_NO_CONTEXT;
 }
 
+void EglContext::makeCurrent(EGLSurface surface) const
+{
+    if (eglGetCurrentContext() == context_ && eglGetCurrentSurface(EGL_DRAW) == surface)
+        return;
+    if (!eglMakeCurrent(display_->handle(), surface, surface, context_))
+        throw RuntimeError("cannot make the OpenGL ES context current with its window: " + eglErrorName(eglGetError()));
+}
+
 void EglContext::makeCurrent() const
 {
     if (eglGetCurrentContext() == context_)
         return;
     if (!eglMakeCurrent(display_->handle(), EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
         throw RuntimeError("cannot make the OpenGL ES context current: " + eglErrorName(eglGetError()));
+}
+
+EglWindowSurface::EglWindowSurface(std::shared_ptr<EglDisplay> display, void* gbmSurface, uint32_t gbmFormat)
+    : display_(std::move(display))
+{
+    const EGLDisplay dpy = display_->handle();
+    const EGLint attributes[] = {EGL_SURFACE_TYPE,
+                                 EGL_WINDOW_BIT,
+                                 EGL_RENDERABLE_TYPE,
+                                 EGL_OPENGL_ES3_BIT,
+                                 EGL_RED_SIZE,
+                                 8,
+                                 EGL_GREEN_SIZE,
+                                 8,
+                                 EGL_BLUE_SIZE,
+                                 8,
+                                 EGL_NONE};
+    EGLint count = 0;
+    if (!eglChooseConfig(dpy, attributes, nullptr, 0, &count) || count < 1)
+        throw RuntimeError("no EGL window config with OpenGL ES 3 and 8-bit colour on the GBM display");
+    std::vector<EGLConfig> configs(static_cast<size_t>(count));
+    eglChooseConfig(dpy, attributes, configs.data(), count, &count);
+    // GBM surfaces take the config whose native visual id is their DRM format.
+    EGLConfig chosen = nullptr;
+    for (EGLint i = 0; i < count && !chosen; ++i) {
+        EGLint visual = 0;
+        if (eglGetConfigAttrib(dpy, configs[size_t(i)], EGL_NATIVE_VISUAL_ID, &visual) && uint32_t(visual) == gbmFormat)
+            chosen = configs[size_t(i)];
+    }
+    if (!chosen)
+        throw RuntimeError("no EGL window config for the scan-out format");
+    const auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
+        eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
+    if (!createSurface)
+        throw RuntimeError("EGL lacks eglCreatePlatformWindowSurfaceEXT");
+    surface_ = createSurface(dpy, chosen, gbmSurface, nullptr);
+    if (surface_ == EGL_NO_SURFACE)
+        throw RuntimeError("cannot create the EGL window surface on GBM: " + eglErrorName(eglGetError()));
+    display_->setWindowConfig(chosen);
+}
+
+EglWindowSurface::EglWindowSurface(EglWindowSurface&& other) noexcept
+    : display_(std::move(other.display_)), surface_(std::exchange(other.surface_, EGL_NO_SURFACE))
+{
+}
+
+EglWindowSurface& EglWindowSurface::operator=(EglWindowSurface&& other) noexcept
+{
+    if (this != &other) {
+        destroy();
+        display_ = std::move(other.display_);
+        surface_ = std::exchange(other.surface_, EGL_NO_SURFACE);
+    }
+    return *this;
+}
+
+EglWindowSurface::~EglWindowSurface()
+{
+    destroy();
+}
+
+void EglWindowSurface::destroy()
+{
+    if (surface_ == EGL_NO_SURFACE)
+        return;
+    // A surface still bound is only destroyed once it is released: release it now.
+    if (eglGetCurrentSurface(EGL_DRAW) == surface_)
+        eglMakeCurrent(display_->handle(), EGL_NO_SURFACE, EGL_NO_SURFACE, eglGetCurrentContext());
+    eglDestroySurface(display_->handle(), surface_);
+    surface_ = EGL_NO_SURFACE;
+}
+
+void EglWindowSurface::swapBuffers() const
+{
+    if (!eglSwapBuffers(display_->handle(), surface_))
+        throw RuntimeError("eglSwapBuffers failed: " + eglErrorName(eglGetError()));
 }
 
 } // namespace lumar

@@ -1,7 +1,9 @@
-// A headless OpenGL ES 3 context: Mesa's surfaceless EGL platform, no window and no
-// surface (the renderer draws into its own framebuffer objects).
+// OpenGL ES 3 contexts on EGL: Mesa's surfaceless platform for headless output (no window,
+// no surface: the renderer draws into its own framebuffer objects), or the GBM platform with
+// one window surface for a KMS display (the finished frame is copied into it and flipped).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -17,6 +19,10 @@ public:
     // The process' surfaceless display, initialised on first use and terminated when the
     // last holder lets go. Throws RuntimeError when the platform is missing.
     static std::shared_ptr<EglDisplay> surfaceless();
+    // A display on the GBM platform of `gbmDevice` (a struct gbm_device*), for window
+    // surfaces that KMS scans out. Not shared: it lives as long as its holders, who must let
+    // go before the GBM device is destroyed. Throws RuntimeError.
+    static std::shared_ptr<EglDisplay> gbm(void* gbmDevice);
 
     EglDisplay(EglDisplay&& other) noexcept;
     EglDisplay& operator=(EglDisplay&& other) noexcept;
@@ -28,12 +34,20 @@ public:
     [[nodiscard]] bool hasExtension(std::string_view name) const;
     [[nodiscard]] int majorVersion() const { return major_; }
     [[nodiscard]] int minorVersion() const { return minor_; }
+    // GBM displays: the ES 3 window config whose native visual is the scan-out format (set by
+    // EglWindowSurface); contexts use it where EGL_KHR_no_config_context is missing, so they
+    // can draw to the window.
+    [[nodiscard]] EGLConfig windowConfig() const { return windowConfig_; }
+    void setWindowConfig(EGLConfig config) { windowConfig_ = config; }
 
 private:
     EglDisplay() = default;
     void terminate();
 
+    static std::shared_ptr<EglDisplay> initialise(EGLenum platform, void* nativeDisplay, const char* what);
+
     EGLDisplay display_ = EGL_NO_DISPLAY;
+    EGLConfig windowConfig_ = nullptr;
     int major_ = 0, minor_ = 0;
     std::string extensions_;
 };
@@ -51,8 +65,11 @@ public:
     EglContext& operator=(const EglContext&) = delete;
     ~EglContext();
 
-    // Cheap when already current (several renderers may share a thread).
+    // Cheap when already current (several renderers may share a thread). Keeps the surface
+    // that is bound, if any: the renderer draws into its own framebuffers either way.
     void makeCurrent() const;
+    // Binds `surface` for drawing and reading (a window surface of the same display).
+    void makeCurrent(EGLSurface surface) const;
     [[nodiscard]] EGLContext handle() const { return context_; }
 
 private:
@@ -60,6 +77,30 @@ private:
 
     std::shared_ptr<EglDisplay> display_;
     EGLContext context_ = EGL_NO_CONTEXT;
+};
+
+// An EGL window surface on a GBM surface (struct gbm_surface*) with the ES 3 config whose
+// native visual is `gbmFormat`. Destroyed before its display, which it keeps alive.
+class EglWindowSurface {
+public:
+    // Throws RuntimeError when no config matches the format or creation fails.
+    EglWindowSurface(std::shared_ptr<EglDisplay> display, void* gbmSurface, uint32_t gbmFormat);
+    EglWindowSurface(EglWindowSurface&& other) noexcept;
+    EglWindowSurface& operator=(EglWindowSurface&& other) noexcept;
+    EglWindowSurface(const EglWindowSurface&) = delete;
+    EglWindowSurface& operator=(const EglWindowSurface&) = delete;
+    ~EglWindowSurface();
+
+    [[nodiscard]] EGLSurface handle() const { return surface_; }
+    [[nodiscard]] const std::shared_ptr<EglDisplay>& display() const { return display_; }
+    // eglSwapBuffers; throws RuntimeError on failure.
+    void swapBuffers() const;
+
+private:
+    void destroy();
+
+    std::shared_ptr<EglDisplay> display_;
+    EGLSurface surface_ = EGL_NO_SURFACE;
 };
 
 } // namespace lumar

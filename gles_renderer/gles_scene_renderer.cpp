@@ -1,4 +1,6 @@
-// SceneRenderer on a surfaceless EGL context: background pass, mesh pass, readback.
+// SceneRenderer on an EGL context (surfaceless, or on a KMS display's GBM platform): background
+// pass, mesh pass, readback or presentation to a window surface.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -18,6 +20,7 @@
 #include "gles_renderer/mesh_pass.h"
 #include "gles_renderer/render_target.h"
 #include "gles_renderer/scene_renderer.h"
+#include "gles_renderer/window_target.h"
 
 namespace lumar {
 namespace {
@@ -29,9 +32,9 @@ std::string glString(GLenum name)
 }
 
 // Makes the context current and logs what it runs on; returns it for member initialisation.
-EglContext makeContext()
+EglContext makeContext(const std::shared_ptr<EglDisplay>& display)
 {
-    EglContext context(EglDisplay::surfaceless());
+    EglContext context(display ? display : EglDisplay::surfaceless());
     LUMAR_LOG(Render, Info) << "GLES: " << glString(GL_VERSION) << ", renderer " << glString(GL_RENDERER) << ", vendor "
                             << glString(GL_VENDOR);
     return context;
@@ -50,13 +53,15 @@ void checkIntrinsics(const CameraIntrinsics& k, int width, int height)
 class GlesSceneRenderer final : public SceneRenderer {
 public:
     GlesSceneRenderer(int width, int height, const RenderOptions& options)
-        : context_(makeContext()), width_(width), height_(height),
+        : context_(makeContext(options.display)), width_(width), height_(height),
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
           profile_(options.profile)
     {
         checkGlError("creating the scene renderer");
+        // Zero-copy camera frames are imported from their dmabufs where this display can.
+        background_.enableDmabufImport(options.display ? *options.display : *EglDisplay::surfaceless());
         LUMAR_LOG(Render, Info) << "rendering " << width << "x" << height << ", " << target_.samples()
                                 << " sample(s) per pixel";
     }
@@ -117,6 +122,29 @@ public:
     {
         context_.makeCurrent();
         readback_.read(rgb);
+    }
+
+    void present(WindowTarget& window) override
+    {
+        context_.makeCurrent(window.surface());
+        // Fit the frame into the window keeping its aspect (black bars), flipping it: the
+        // frame's row 0 is the image's top, the window's is its bottom.
+        const double scale = std::min(double(window.width()) / width_, double(window.height()) / height_);
+        const int w = int(std::lround(width_ * scale)), h = int(std::lround(height_ * scale));
+        const int x = (window.width() - w) / 2, y = (window.height() - h) / 2;
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.readFramebuffer());
+        if (w != window.width() || h != window.height()) {
+            glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+        }
+        glBlitFramebuffer(0, 0, width_, height_, x, y + h, x + w, y, GL_COLOR_BUFFER_BIT,
+                          w == width_ && h == height_ ? GL_NEAREST : GL_LINEAR);
+        checkGlError("copying the frame into the window");
+        const EGLDisplay display = eglGetCurrentDisplay();
+        if (!eglSwapBuffers(display, window.surface()))
+            throw RuntimeError("eglSwapBuffers failed on the display's window surface");
+        window.showSwapped();
     }
 
     [[nodiscard]] RenderStats lastStats() const override { return stats_; }

@@ -16,6 +16,9 @@
 
 namespace lumar {
 
+class EglDisplay;
+class WindowTarget;
+
 using ModelId = int;
 
 struct DrawItem {
@@ -65,6 +68,9 @@ struct RenderOptions {
     int samples = 1;
     EnvironmentMapOptions environmentMaps;
     bool profile = false;
+    // The EGL display to render on: a KMS display's (KmsDisplay::eglDisplay()) to present()
+    // there; null: the process' surfaceless display (headless).
+    std::shared_ptr<EglDisplay> display;
 };
 
 class SceneRenderer {
@@ -92,6 +98,10 @@ public:
                         std::span<const DrawItem> items) = 0;
     // The last rendered frame, 3 channels, row 0 at the top.
     virtual void readback(Image8& rgb) = 0;
+    // Copies the last rendered frame into `window` (a surface on RenderOptions::display),
+    // scaled to fit with its aspect kept, swaps and lets the window show it. Throws
+    // RuntimeError.
+    virtual void present(WindowTarget& window) = 0;
     [[nodiscard]] virtual RenderStats lastStats() const = 0;
     // Test access: the maps of scene object `object` (nullptr when it has none yet), and of
     // the real environment alone. Their textures stay owned by the renderer.

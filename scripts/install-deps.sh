@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   dpkg-dev file
-  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev
+  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev
   libglm-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
   libapriltag-dev
@@ -19,6 +19,7 @@ packages=(
   libgtest-dev googletest
   glslang-tools
   clang-format
+  qemu-system-x86 busybox-static cpio # scripts/virtual-board.sh: the virtual board system test
 )
 
 missing=()

@@ -21,5 +21,6 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # Leak checking everywhere except where Mesa runs: its llvmpipe driver is dlclose()d at
 # eglTerminate with allocations LeakSanitizer then reports from an "<unknown module>" that no
 # suppression can name. Address and UB checks stay on for those tests.
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure -j "$jobs" -LE 'gl|integration'
-ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 ctest --output-on-failure -j "$jobs" -L 'gl|integration'
+# The virtual board runs the release build's binaries in a VM: not part of this configuration.
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure -j "$jobs" -LE 'gl|integration|virtual-board'
+ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 ctest --output-on-failure -j "$jobs" -L 'gl|integration' -LE virtual-board

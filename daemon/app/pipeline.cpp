@@ -1,6 +1,8 @@
 #include "pipeline.h"
 
 #include <chrono>
+#include <stdexcept>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -47,6 +49,32 @@ TagSizes tagSizesFor(const Config& config)
     return sizes;
 }
 
+PoseFilterSettings filterSettingsFor(const TrackingConfig& tracking)
+{
+    PoseFilterSettings settings;
+    settings.minCutoffHz = tracking.filterMinCutoffHz;
+    settings.beta = tracking.filterBeta;
+    settings.rotationMinCutoffHz = tracking.filterRotationMinCutoffHz;
+    settings.rotationBeta = tracking.filterRotationBeta;
+    return settings;
+}
+
+std::unique_ptr<TagTracker> makeTracker(const Config& config, const CameraIntrinsics& intrinsics)
+{
+    auto tracker = std::make_unique<TagTracker>(config.tracking, intrinsics, tagSizesFor(config));
+    std::vector<TagMap> maps;
+    for (const MapConfig& map : config.maps)
+        maps.push_back(makeTagMap(map));
+    tracker->setMaps(std::move(maps));
+    return tracker;
+}
+
+bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b)
+{
+    return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+           a.distortion == b.distortion;
+}
+
 // The object's model with its materials: a file or a built-in shape, then the sidecar's
 // Lafortune materials, then the preset for every material.
 GltfModel loadObjectModel(const ObjectConfig& object)
@@ -63,6 +91,15 @@ GltfModel loadObjectModel(const ObjectConfig& object)
         applyMaterialSidecar(loaded, everything);
     }
     return loaded;
+}
+
+std::vector<GltfModel> loadObjectModels(const Config& config)
+{
+    std::vector<GltfModel> models;
+    models.reserve(config.objects.size());
+    for (const ObjectConfig& object : config.objects)
+        models.push_back(loadObjectModel(object));
+    return models;
 }
 
 RenderOptions renderOptionsFor(const RenderingConfig& rendering)
@@ -85,7 +122,7 @@ RenderOptions renderOptionsFor(const RenderingConfig& rendering)
 // llvmpipe, 2 cores: 30 -> 25 fps) than the CPU conversion it saves.
 CameraConfig withConversionDecided(CameraConfig camera)
 {
-    if (camera.convert != "auto" || camera.source != "v4l2")
+    if (camera.convert != "auto" || (camera.source != "v4l2" && camera.source != "libcamera"))
         return camera;
     std::string renderer;
     try {
@@ -111,35 +148,74 @@ ImageF neutralEnvironment()
     return env;
 }
 
+// When the file was last written; a default time for the built-in environment (or a file
+// that cannot be read, which loading reports).
+std::filesystem::file_time_type environmentWritten(const EnvironmentConfig& environment)
+{
+    std::error_code ec;
+    const auto written = environment.hdr.empty() ? std::filesystem::file_time_type{}
+                                                 : std::filesystem::last_write_time(environment.hdr, ec);
+    return ec ? std::filesystem::file_time_type{} : written;
+}
+
+ImageF loadEnvironment(const EnvironmentConfig& environment)
+{
+    return environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(environment.hdr);
+}
+
+// The renderer for `config`; sameRendererSetup() compares what this reads, keep them in step.
+std::unique_ptr<SceneRenderer> makeRenderer(const Config& config, int width, int height, bool profile,
+                                            const WindowTarget* window)
+{
+    RenderOptions options = renderOptionsFor(config.rendering);
+    options.profile = profile;
+    if (window)
+        options.display = window->eglDisplay();
+    return SceneRenderer::create(width, height, options);
+}
+
+// Whether a renderer made for `running` serves `next` (the output size is the camera's,
+// which a reload in place keeps): what is fixed when it is created, the GL context with it.
+// The sink and the board decide on which display and how the context is made: every [output]
+// setting but the file paths, and the board's display and GL quirks, take a new one.
+bool sameRendererSetup(const Config& running, const Config& next)
+{
+    const auto display = [](const Config& c) {
+        OutputConfig output = c.output;
+        output.path.clear();
+        output.statusPath.clear();
+        const BoardProfile board = c.board.value_or(BoardProfile{});
+        return std::tuple(output, board.glQuirks, board.display.drmDrivers, board.display.connector,
+                          board.display.plane, board.display.modifiers);
+    };
+    return running.rendering == next.rendering && display(running) == display(next);
+}
+
 } // namespace
 
-Pipeline::Pipeline(const Config& config, bool profile) : config_(config)
+Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
+    : config_(config), profile_(profile), window_(window)
 {
-    filterSettings_.minCutoffHz = config_.tracking.filterMinCutoffHz;
-    filterSettings_.beta = config_.tracking.filterBeta;
-    filterSettings_.rotationMinCutoffHz = config_.tracking.filterRotationMinCutoffHz;
-    filterSettings_.rotationBeta = config_.tracking.filterRotationBeta;
+    filterSettings_ = filterSettingsFor(config_.tracking);
     capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(withConversionDecided(config_.camera)));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
-    tracker_ = std::make_unique<TagTracker>(config_.tracking, intrinsics_, tagSizesFor(config_));
-    std::vector<TagMap> maps;
-    for (const MapConfig& map : config_.maps)
-        maps.push_back(makeTagMap(map));
-    tracker_->setMaps(std::move(maps));
+    tracker_ = makeTracker(config_, intrinsics_);
 
     // Load every file before creating the GL context, so bad input is reported as such even
     // on a machine without EGL.
-    std::vector<GltfModel> models;
-    models.reserve(config_.objects.size());
-    for (const ObjectConfig& object : config_.objects)
-        models.push_back(loadObjectModel(object));
-    const ImageF environment =
-        config_.environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(config_.environment.hdr);
+    const std::vector<GltfModel> models = loadObjectModels(config_);
+    environmentWritten_ = environmentWritten(config_.environment);
+    const ImageF environment = loadEnvironment(config_.environment);
 
-    RenderOptions options = renderOptionsFor(config_.rendering);
-    options.profile = profile;
-    renderer_ = SceneRenderer::create(capture_->width(), capture_->height(), options);
+    renderer_ = makeRenderer(config_, capture_->width(), capture_->height(), profile_, window_);
     renderer_->setEnvironment(environment, float(config_.environment.intensity));
+    placeScene(models);
+}
+
+void Pipeline::placeScene(const std::vector<GltfModel>& models)
+{
+    objects_.clear();
+    phantoms_.clear();
     for (size_t i = 0; i < models.size(); ++i) {
         const ObjectConfig& object = config_.objects[i];
         PlacedObject placed;
@@ -170,6 +246,66 @@ Pipeline::Pipeline(const Config& config, bool profile) : config_(config)
         phantoms_.push_back(placed);
     }
     drawItems_.reserve(objects_.size() + phantoms_.size());
+}
+
+Pipeline::PreparedReload Pipeline::prepareReload(const Config& next) const
+{
+    if (!keepsCamera(next))
+        throw std::logic_error("Pipeline::prepareReload: the camera changed; that takes a new Pipeline");
+    PreparedReload prepared;
+    prepared.config = next;
+    // The calibration file may have changed on disk under the same name: read it again.
+    prepared.intrinsics = intrinsicsFor(next.camera, capture_->width(), capture_->height());
+    const bool keepTracker = next.tracking == config_.tracking && next.markers == config_.markers &&
+                             next.maps == config_.maps && sameIntrinsics(prepared.intrinsics, intrinsics_);
+    if (!keepTracker)
+        prepared.tracker = makeTracker(next, prepared.intrinsics);
+    prepared.models = loadObjectModels(next);
+    const bool keepRenderer = sameRendererSetup(config_, next);
+    // The time is read before the file, so a write while it loads makes the next reload read it again.
+    prepared.environmentWritten = environmentWritten(next.environment);
+    if (!keepRenderer || next.environment != config_.environment || prepared.environmentWritten != environmentWritten_)
+        prepared.environment = loadEnvironment(next.environment);
+    // Last: a new GL context only once every file has loaded.
+    if (!keepRenderer)
+        prepared.renderer = makeRenderer(next, capture_->width(), capture_->height(), profile_, window_);
+    return prepared;
+}
+
+ReloadSummary Pipeline::applyReload(PreparedReload prepared)
+{
+    ReloadSummary summary;
+    summary.keptTracker = !prepared.tracker;
+    summary.keptRenderer = !prepared.renderer;
+    summary.keptEnvironment = !prepared.environment;
+    summary.modelsBefore = objects_.size();
+    if (prepared.tracker) {
+        // The detection thread uses the tracker being replaced: stop it first, start it again after.
+        const bool background = worker_ != nullptr;
+        worker_.reset();
+        tracker_ = std::move(prepared.tracker);
+        // Poses filtered with other settings, or maps under keys that now name other maps.
+        markers_.clear();
+        latest_ = {};
+        if (background)
+            worker_ = std::make_unique<DetectionWorker>(*tracker_);
+    }
+    if (prepared.renderer) {
+        renderer_ = std::move(prepared.renderer);
+        displayLatencyMs_ = 0.0;
+    } else {
+        renderer_->removeModels();
+    }
+    config_ = std::move(prepared.config);
+    intrinsics_ = prepared.intrinsics;
+    filterSettings_ = filterSettingsFor(config_.tracking);
+    if (prepared.environment) {
+        renderer_->setEnvironment(*prepared.environment, float(config_.environment.intensity));
+        environmentWritten_ = prepared.environmentWritten;
+    }
+    placeScene(prepared.models);
+    summary.modelsAfter = objects_.size();
+    return summary;
 }
 
 Pipeline::~Pipeline() = default;
@@ -265,8 +401,13 @@ bool Pipeline::step(FrameReport& report)
     report.objectsDrawn = int(drawItems_.size());
     report.times.renderMs = millisecondsSince(start);
 
+    // On a display the frame goes to the screen without leaving the GPU; otherwise it is
+    // read back for the headless sink.
     start = std::chrono::steady_clock::now();
-    renderer_->readback(output_);
+    if (window_)
+        renderer_->present(*window_);
+    else
+        renderer_->readback(output_);
     report.times.readbackMs = millisecondsSince(start);
     const double latencyMs = report.times.renderMs + report.times.readbackMs;
     displayLatencyMs_ = displayLatencyMs_ > 0.0 ? 0.9 * displayLatencyMs_ + 0.1 * latencyMs : latencyMs;

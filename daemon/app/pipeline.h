@@ -3,8 +3,10 @@
 // frame to frame.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "capture/capture_source.h"
@@ -13,6 +15,7 @@
 #include "core/frame.h"
 #include "detection_worker.h"
 #include "gles_renderer/scene_renderer.h"
+#include "gles_renderer/window_target.h"
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
@@ -21,6 +24,14 @@ namespace lumar {
 
 struct StageTimes {
     double captureMs = 0, detectMs = 0, renderMs = 0, readbackMs = 0;
+};
+
+// What a reload kept of the running pipeline (Pipeline::applyReload), for the log.
+struct ReloadSummary {
+    bool keptRenderer = false;    // and its EGL/GL context
+    bool keptTracker = false;     // and the markers' filtered poses
+    bool keptEnvironment = false; // the environment map and its lighting
+    size_t modelsBefore = 0, modelsAfter = 0;
 };
 
 struct FrameReport {
@@ -37,11 +48,38 @@ public:
     // Opens the camera, loads calibration, models and environment, creates the GL context.
     // Throws InputError for bad files, RuntimeError for a platform failure.
     // `profile`: the renderer times its stages (waiting for the GPU between them), for bench.
-    explicit Pipeline(const Config& config, bool profile = false);
+    // `window`: present every frame there (a KMS display, which outlives the pipeline) instead
+    // of reading it back; output() then stays empty.
+    explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr);
     [[nodiscard]] RenderStats renderStats() const;
     ~Pipeline();
     Pipeline(const Pipeline&) = delete;
     Pipeline& operator=(const Pipeline&) = delete;
+
+    // A reload in place (DESIGN.md §7): applied to this pipeline, a new configuration keeps
+    // the capture source, and keeps the renderer with its GL context, the tracker and the
+    // environment map where it does not change them; models, objects, phantoms and filter
+    // settings are replaced. It needs the same [camera] (board defaults included): a camera
+    // change takes a new Pipeline.
+    // What prepareReload() loaded and made, for applyReload().
+    struct PreparedReload {
+        Config config;
+        CameraIntrinsics intrinsics;
+        std::unique_ptr<TagTracker> tracker; // null: the running one is kept
+        std::vector<GltfModel> models;       // config.objects' models, loaded
+        std::optional<ImageF> environment;   // nullopt: the running map is kept
+        std::filesystem::file_time_type environmentWritten{};
+        std::unique_ptr<SceneRenderer> renderer; // null: the running one is kept
+    };
+    // Whether `next` can be applied to this pipeline: its [camera] is the running one's.
+    [[nodiscard]] bool keepsCamera(const Config& next) const { return next.camera == config_.camera; }
+    // Loads and creates everything `next` needs that the running pipeline cannot keep: models,
+    // environment map, calibration, tracker, and a renderer when its creation settings
+    // changed. Throws InputError for bad input, RuntimeError for a platform failure; the
+    // running pipeline is untouched either way (it keeps rendering meanwhile).
+    [[nodiscard]] PreparedReload prepareReload(const Config& next) const;
+    // Switches to the prepared configuration: nothing left to fail on input, only GL uploads.
+    ReloadSummary applyReload(PreparedReload prepared);
 
     // Processes the next camera frame; false at the end of a finite source.
     bool step(FrameReport& report);
@@ -68,6 +106,9 @@ private:
         OneEuroPoseFilter filter;
     };
 
+    // Adds the configured objects (`models` in config_.objects' order) and phantoms to the
+    // renderer, which holds no models yet.
+    void placeScene(const std::vector<GltfModel>& models);
     void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
     // The marker's pose at `timestampNs`: predicted by its filter (the latest pose when the
     // time is that of its last update).
@@ -77,6 +118,8 @@ private:
     void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
 
     Config config_;
+    bool profile_ = false;
+    WindowTarget* window_ = nullptr;
     std::unique_ptr<CaptureSource> capture_;
     CameraIntrinsics intrinsics_;
     std::unique_ptr<TagTracker> tracker_;
@@ -85,6 +128,9 @@ private:
     DetectionWorker::Result latest_;
     double displayLatencyMs_ = 0.0; // running mean of render + readback: capture to display
     std::unique_ptr<SceneRenderer> renderer_;
+    // The environment file's modification time when it was loaded: a reload with the same
+    // [environment] keeps the map unless the file changed on disk.
+    std::filesystem::file_time_type environmentWritten_{};
     std::vector<PlacedObject> objects_;
     std::vector<PlacedObject> phantoms_; // markerFromModel scales the unit cube to the box
     std::map<int, MarkerState> markers_;

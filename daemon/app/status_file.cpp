@@ -19,7 +19,13 @@ std::string statusJson(const RunStatus& s)
     std::snprintf(numbers, sizeof numbers,
                   "\"fps\":%.2f,\"frames\":%ld,\"frames_with_markers\":%ld,\"objects_drawn\":%d,\"uptime_s\":%.1f",
                   s.fps, s.frames, s.framesWithMarkers, s.objectsDrawn, s.uptimeS);
-    return std::string("{\"state\":\"running\",") + numbers + ",\"markers_visible\":[" + ids +
+    const auto milliseconds = [](const std::optional<double>& ms) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.1f", ms.value_or(0.0));
+        return ms ? std::string(text) : std::string("null");
+    };
+    return std::string("{\"state\":\"running\",") + numbers + ",\"startup_ms\":" + milliseconds(s.startupMs) +
+           ",\"last_reload_ms\":" + milliseconds(s.lastReloadMs) + ",\"markers_visible\":[" + ids +
            "],\"camera\":" + jsonString(s.camera) + ",\"config\":" + jsonString(s.config) + "}\n";
 }
 

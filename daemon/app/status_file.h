@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,10 @@ struct RunStatus {
     std::string camera = "ok"; // or "unavailable: <reason>"
     std::string config = "ok"; // or "rejected: <FILE:LINE: message>"
     double uptimeS = 0.0;
+    // Process creation to the first presented frame; the last accepted reload from its
+    // trigger (signal or file event) to the new configuration applied. null until known.
+    std::optional<double> startupMs;
+    std::optional<double> lastReloadMs;
 };
 
 std::string statusJson(const RunStatus& status);

@@ -8,7 +8,6 @@
 #include "capture/v4l2/v4l2_source.h"
 #include "capture/y4m_source.h"
 #include "core/error.h"
-#include "core/log.h"
 
 namespace lumar {
 
@@ -35,6 +34,8 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
         options.controls = config.controls;
         // The renderer converts NV12/YUYV on the GPU unless the operator asks for the CPU.
         options.rawYcbcr = config.convert == "gpu";
+        // The frames borrow the driver's buffers (dmabufs for the renderer to import).
+        options.zeroCopy = config.zeroCopy == "auto";
         // The pipeline sizes its renderer and intrinsics once; a resolution change reopens.
         options.followResolutionChanges = false;
         // A camera can be unplugged or hang; it is reopened in place when it comes back.
@@ -42,9 +43,6 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
                                                     options.device);
     }
     if (config.source == "libcamera") {
-        if (!config.controls.empty()) {
-            LUMAR_LOG(Capture, Warn) << "camera.controls apply to v4l2 cameras only; ignored for libcamera";
-        }
         LibcameraOptions options;
         options.cameraId = config.device;
         options.width = config.width;
@@ -52,6 +50,11 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
         options.fps = config.fps;
         options.bufferCount = config.buffers;
         options.frameTimeoutMs = config.timeoutMs;
+        options.format = config.format;
+        LibcameraSource::checkFormatName(config.format); // before any camera is opened: bad input
+        options.controls = config.controls;
+        options.rawYcbcr = config.convert == "gpu";
+        options.zeroCopy = config.zeroCopy == "auto";
         // Reopened in place after a disconnect or a hang, like a V4L2 camera.
         return std::make_unique<ReconnectingSource>([options] { return std::make_unique<LibcameraSource>(options); },
                                                     "libcamera");

@@ -10,6 +10,7 @@
 #include "command_line.h"
 #include "commands.h"
 #include "core/error.h"
+#include "gles_renderer/drm_probe.h"
 #include "gles_renderer/gl_probe.h"
 
 namespace lumar {
@@ -19,7 +20,7 @@ constexpr const char* kHelp = R"(usage: lumar probe [--device PATH ...]
 
 Lists V4L2 cameras (every /dev/video*, plus each --device) with their pixel formats and frame
 sizes, libcamera cameras with their viewfinder formats and sizes, the EGL/GLES implementation
-with the extensions lumar uses, and DRM devices.
+with the extensions lumar uses, and DRM devices with their connectors, modes and planes.
 )";
 
 void printCameras(const std::vector<std::string>& devices)
@@ -92,15 +93,8 @@ void printGraphics()
 void printDisplays()
 {
     std::printf("DRM devices:\n");
-    std::vector<std::string> nodes;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator("/dev/dri", ec))
-        nodes.push_back(entry.path().string());
-    std::sort(nodes.begin(), nodes.end());
-    if (nodes.empty())
-        std::printf("  none (no /dev/dri): output is headless only\n");
-    for (const std::string& node : nodes)
-        std::printf("  %s\n", node.c_str());
+    for (const std::string& line : describeDrmDevices())
+        std::printf("%s\n", line.c_str());
 }
 
 } // namespace

@@ -17,8 +17,10 @@
 #include "config_watcher.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "kms_sink.h"
 #include "output/frame_writer.h"
 #include "pipeline.h"
+#include "process_clock.h"
 #include "service_notifier.h"
 #include "status_file.h"
 
@@ -29,12 +31,21 @@ constexpr const char* kHelp = R"(usage: lumar run [--config FILE] [--frames N] [
 
 Runs the AR pipeline continuously until SIGINT or SIGTERM (or N frames when --frames is
 given). The output goes to the configured sink: [output] path = "x.png" keeps a still of
-the newest frame (rewritten once a second, atomically), "x.y4m" records every frame.
+the newest frame (rewritten once a second, atomically), "x.y4m" records every frame; with
+sink = "kms" every frame is shown on a DRM/KMS display (the board profile's [display] and
+[output]'s drm_device, connector, plane and mode choose it), or, without a DRM device, the
+path is written instead. The display is chosen once: a reload keeps it.
 
 The configuration file is reloaded when it changes on disk (editors and mv included) or on
 SIGHUP; a file with an error is rejected with its FILE:LINE message and the last good
-configuration keeps running. Under systemd (Type=notify) it reports READY=1 after the first
-frame, WATCHDOG=1 while frames flow, and STATUS= with fps and tracking state.
+configuration keeps running. A new file keeps the running camera unless its [camera]
+changed, and the GL context unless its [rendering] or display settings changed; models,
+markers, maps, objects and tracking settings are replaced in place. The start-up time (to
+the first presented frame) and each reload's duration are logged and written to the status
+file as startup_ms and last_reload_ms.
+
+Under systemd (Type=notify) it reports READY=1 after the first frame, WATCHDOG=1 while
+frames flow, and STATUS= with fps and tracking state.
 )";
 
 std::atomic<bool> gStopRequested{false};
@@ -73,12 +84,16 @@ private:
     std::array<struct sigaction, 3> old_{};
 };
 
-// The headless sink of `run`: a still refreshed periodically, or a video of every frame.
+// The headless sink of `run`: a still refreshed periodically, or a video of every frame. With
+// a KMS display it writes nothing (the frames are not read back); when `sink = "kms"` found
+// no display it is the fallback.
 class HeadlessSink {
 public:
-    HeadlessSink(const OutputConfig& output, double fps) : path_(output.path)
+    HeadlessSink(const OutputConfig& output, double fps, const WindowTarget* display) : path_(output.path)
     {
-        if (output.sink == "none" || path_.empty())
+        if (output.sink == "none" || display)
+            path_.clear();
+        if (path_.empty())
             return;
         if (path_.extension() == ".y4m")
             video_ = openFrameWriter(path_, fps);
@@ -109,34 +124,81 @@ private:
     std::chrono::steady_clock::time_point nextStill_{};
 };
 
-// Everything a configuration builds; replaced as a whole when a new one is accepted.
+// Everything a configuration builds; updated in place by a reload that keeps the camera,
+// replaced as a whole by one that does not.
+// The KMS display (`display`) is opened once per process and outlives every scene: a reload
+// keeps its mode and plane.
 struct RunningScene {
+    KmsDisplay* display;
     std::unique_ptr<Pipeline> pipeline;
     std::unique_ptr<HeadlessSink> sink;
     StatusFile statusFile;
+    OutputConfig output; // what sink and statusFile were made from
 
-    explicit RunningScene(const Config& config)
-        : pipeline(std::make_unique<Pipeline>(config)),
-          sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps())), statusFile(config.output.statusPath)
+    RunningScene(const Config& config, KmsDisplay* kms)
+        : display(kms), pipeline(std::make_unique<Pipeline>(config, false, kms)),
+          sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps(), kms)),
+          statusFile(config.output.statusPath), output(config.output)
     {
         // The daemon renders every frame without waiting for detection.
         pipeline->detectInBackground();
     }
 };
 
-// Parse → validate → build, all before anything running is touched: a bad file (or a model
-// it names) leaves the current scene running. Returns false when the new file was rejected.
+// What a reload in place kept and what it made anew, for the log.
+std::string describe(const ReloadSummary& summary)
+{
+    std::string kept = "camera", made;
+    const auto add = [](std::string& list, const char* part) {
+        list += (list.empty() ? "" : ", ") + std::string(part);
+    };
+    add(summary.keptRenderer ? kept : made, "GL context");
+    add(summary.keptTracker ? kept : made, "tracker");
+    add(summary.keptEnvironment ? kept : made, "environment map");
+    return "kept " + kept + (made.empty() ? "" : "; new " + made) + "; models " + std::to_string(summary.modelsBefore) +
+           " → " + std::to_string(summary.modelsAfter);
+}
+
+// Parse → validate → load, all before anything running is touched: a bad file (or a model it
+// names) leaves the current scene running. The camera and the GL context are kept where the
+// new file allows it (Pipeline::prepareReload); a [camera] change builds a new scene.
+// Returns false when the new file was rejected.
 bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& scene, ServiceNotifier& notifier,
             RunStatus& status)
 {
+    const auto start = std::chrono::steady_clock::now();
     notifier.reloading();
     try {
         const Config config = loadConfig(file);
-        auto next = std::make_unique<RunningScene>(config);
-        scene->sink->finish(scene->pipeline->output());
-        scene = std::move(next);
+        if (config.output.sink != scene->output.sink && (config.output.sink == "kms" || scene->output.sink == "kms"))
+            LUMAR_LOG(Output, Warn) << "output.sink changed to \"" << config.output.sink
+                                    << "\": the display is chosen at start-up, restart lumar to switch";
+        std::string what;
+        if (scene->pipeline->keepsCamera(config)) {
+            Pipeline::PreparedReload prepared = scene->pipeline->prepareReload(config);
+            std::unique_ptr<HeadlessSink> sink;
+            if (config.output != scene->output)
+                sink = std::make_unique<HeadlessSink>(config.output, scene->pipeline->fps(), scene->display);
+            // Nothing left that bad input can fail.
+            what = describe(scene->pipeline->applyReload(std::move(prepared)));
+            if (sink) {
+                scene->sink->finish(scene->pipeline->output());
+                scene->sink = std::move(sink);
+            }
+            scene->statusFile = StatusFile(config.output.statusPath);
+            scene->output = config.output;
+        } else {
+            auto next = std::make_unique<RunningScene>(config, scene->display);
+            scene->sink->finish(scene->pipeline->output());
+            scene = std::move(next);
+            what = "new camera, GL context and everything else ([camera] changed)";
+        }
+        status.lastReloadMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         log::configure(config.logLevel);
-        LUMAR_LOG(Config, Info) << "reloaded " << file.string();
+        char ms[32];
+        std::snprintf(ms, sizeof ms, "%.1f", *status.lastReloadMs);
+        LUMAR_LOG(Config, Info) << "reloaded " << file.string() << " in " << ms << " ms: " << what;
         status.config = "ok";
         notifier.ready();
         return true;
@@ -161,9 +223,14 @@ int runCommand(const Args& args)
     if (!cl.positional().empty())
         throw UsageError("unexpected argument '" + cl.positional().front() + "'");
     const long maxFrames = cl.integer("frames", 0, 0, 1L << 40);
+    const auto commandStarted = std::chrono::steady_clock::now(); // start-up's fallback origin
 
     const Config config = configFromCommandLine(cl);
-    auto scene = std::make_unique<RunningScene>(config);
+    // Declared before the scene: its renderers draw on the display's EGL display.
+    std::unique_ptr<KmsDisplay> display;
+    if (config.output.sink == "kms")
+        display = openKmsDisplay(config);
+    auto scene = std::make_unique<RunningScene>(config, display.get());
     const auto configFile = cl.value("config");
     std::optional<ConfigWatcher> watcher;
     if (configFile)
@@ -215,6 +282,16 @@ int runCommand(const Args& args)
         status.camera = "ok";
         const auto now = Clock::now();
         scene->sink->present(scene->pipeline->output(), now);
+        if (!status.startupMs) {
+            // From the process's creation when /proc tells it (10 ms ticks), else from here.
+            const std::optional<double> sinceProcessStart = millisecondsSinceProcessStart();
+            status.startupMs = sinceProcessStart.value_or(
+                std::chrono::duration<double, std::milli>(Clock::now() - commandStarted).count());
+            char ms[32];
+            std::snprintf(ms, sizeof ms, "%.0f", *status.startupMs);
+            LUMAR_LOG(App, Info) << "first frame presented " << ms << " ms after the "
+                                 << (sinceProcessStart ? "process started" : "command started");
+        }
         notifier.frameDone(now);
         if (now - windowStart >= std::chrono::seconds(1)) {
             status.fps = double(framesInWindow) / std::chrono::duration<double>(now - windowStart).count();

@@ -3,6 +3,7 @@
 #include "config/config.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -105,6 +106,7 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
     r.integer("buffers", camera.buffers, 2, 32);
     r.oneOf("format", camera.format, {"auto", "nv12", "yuyv", "mjpeg", "grey"});
     r.oneOf("convert", camera.convert, {"auto", "gpu", "cpu"});
+    r.oneOf("zero_copy", camera.zeroCopy, {"auto", "off"});
     readCameraControls(r, camera.controls);
     r.integer("width", camera.width, 16, 8192);
     checkEven(r, "width", camera.width);
@@ -368,7 +370,18 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     if (!table)
         return;
     TableReader r(*table, "output", ctx.fileName);
-    r.oneOf("sink", output.sink, {"headless", "none"});
+    r.oneOf("sink", output.sink, {"headless", "kms", "none"});
+    r.string("drm_device", output.drmDevice);
+    if (output.drmDevice != "auto" && !output.drmDevice.starts_with("/dev/"))
+        r.fail(table->get("drm_device"), "drm_device", "expected \"auto\" or a /dev/dri/card* path");
+    r.string("connector", output.connector);
+    r.oneOf("plane", output.plane, {"auto", "primary", "overlay"});
+    r.string("mode", output.mode);
+    int modeWidth = 0, modeHeight = 0;
+    char tail = 0;
+    if (output.mode != "auto" && (std::sscanf(output.mode.c_str(), "%dx%d%c", &modeWidth, &modeHeight, &tail) != 2 ||
+                                  modeWidth <= 0 || modeHeight <= 0))
+        r.fail(table->get("mode"), "mode", "expected \"auto\" or WIDTHxHEIGHT, e.g. \"1920x1080\"");
     r.path("path", output.path, ctx.baseDir, Expect::Parent);
     const auto extension = output.path.extension();
     if (!output.path.empty() && extension != ".png" && extension != ".y4m")

@@ -21,10 +21,12 @@ struct FakeTagConfig {
     int id = 0;
     double size = 0.16;       // metres, black border to black border
     glm::dvec2 position{0.0}; // centre on the fake table-top, metres
+    bool operator==(const FakeTagConfig&) const = default;
 };
 
-// [camera.controls]: V4L2 camera controls applied after the device opens. A key left out
-// leaves the device's own setting alone.
+// [camera.controls]: camera controls applied when the camera opens (V4L2 controls, or
+// libcamera's: capture/libcamera/libcamera_controls.h). A key left out leaves the camera's own
+// setting alone.
 struct CameraControlsConfig {
     static constexpr int kAuto = -1;  // "auto" in the file
     std::optional<int> exposureUs;    // microseconds, or kAuto (automatic exposure)
@@ -33,6 +35,7 @@ struct CameraControlsConfig {
     std::optional<int> powerLineHz;   // anti-flicker filter: 0 (off), 50 or 60
 
     [[nodiscard]] bool empty() const { return !exposureUs && !gain && !whiteBalanceK && !powerLineHz; }
+    bool operator==(const CameraControlsConfig&) const = default;
 };
 
 struct CameraConfig {
@@ -41,10 +44,13 @@ struct CameraConfig {
     std::string device = "/dev/video0"; // v4l2: the device node; libcamera: a camera id (else the first)
     int timeoutMs = 2000;               // v4l2, libcamera: no frame for this long is an error
     int buffers = 4;                    // v4l2: MMAP buffers; libcamera: frame buffers requested
-    std::string format = "auto";        // source v4l2: "auto" (NV12 > YUYV > MJPEG > GREY) or one of them
-    std::string convert = "auto";       // v4l2 NV12/YUYV: YCbCr to RGB in the renderer ("gpu"), "cpu", or "auto" (gpu
-                                        // unless the GLES implementation is a software rasteriser)
-    CameraControlsConfig controls;      // source v4l2
+    std::string format = "auto";        // v4l2: "auto" (NV12 > YUYV > MJPEG > GREY) or one of them;
+                                        // libcamera: "auto" (NV12 > YUYV), "nv12" or "yuyv"
+    std::string convert = "auto";       // v4l2, libcamera NV12/YUYV: YCbCr to RGB in the renderer ("gpu"), "cpu",
+                                        // or "auto" (gpu unless the GLES implementation is a software rasteriser)
+    std::string zeroCopy = "auto";      // v4l2, libcamera with convert gpu: "auto" (the camera's buffers lent to the
+                                        // renderer, imported as dmabufs where EGL can) or "off" (the planes copied)
+    CameraControlsConfig controls;      // sources v4l2 and libcamera
     int width = 1280;                   // fake: the size; v4l2: the size requested; files: their own
     int height = 720;
     double fps = 30.0;
@@ -54,6 +60,9 @@ struct CameraConfig {
     uint64_t seed = 1;
     double noiseSigma = 2.0; // sensor noise, code values
     std::vector<FakeTagConfig> fakeTags{FakeTagConfig{}};
+    // A reload compares the running configuration with the new one part by part, to keep
+    // what did not change (the camera, the GL context).
+    bool operator==(const CameraConfig&) const = default;
 };
 
 struct TrackingConfig {
@@ -70,11 +79,13 @@ struct TrackingConfig {
     double filterBeta = 40.0;
     double filterRotationMinCutoffHz = 0.3;
     double filterRotationBeta = 8.0;
+    bool operator==(const TrackingConfig&) const = default;
 };
 
 struct MarkerConfig {
     int id = 0;
     double size = 0.16; // metres, black border to black border
+    bool operator==(const MarkerConfig&) const = default;
 };
 
 // [[maps]]: a board or a set of tags with a known layout, solved jointly for one pose
@@ -85,11 +96,13 @@ struct MapTagConfig {
     double size = 0.16;          // metres, black border to black border
     glm::dvec3 position{0.0};    // the tag's centre in the map frame, metres
     glm::dvec3 rotationDeg{0.0}; // degrees; all zero: the tag frame is the map frame
+    bool operator==(const MapTagConfig&) const = default;
 };
 
 struct MapConfig {
     std::string name;
     std::vector<MapTagConfig> tags;
+    bool operator==(const MapConfig&) const = default;
 };
 
 struct ObjectConfig {
@@ -108,6 +121,7 @@ struct ObjectConfig {
 struct EnvironmentConfig {
     std::filesystem::path hdr; // equirectangular Radiance .hdr
     double intensity = 1.0;
+    bool operator==(const EnvironmentConfig&) const = default;
 };
 
 // A proxy of a real object (DESIGN.md §6.5): a box placed on a marker. It hides virtual
@@ -126,12 +140,19 @@ struct RenderingConfig {
     int environmentMapEvery = 2;                 // every_k: each object every k-th frame
     double environmentMapBudgetMs = 8.0;         // budget: milliseconds per frame
     int environmentMapSize = 64;                 // px per cube face, a power of two 16..256
+    bool operator==(const RenderingConfig&) const = default;
 };
 
 struct OutputConfig {
-    std::string sink = "headless";    // "headless" (files) | "none"
-    std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file
+    std::string sink = "headless"; // "headless" (files) | "kms" (a DRM/KMS display) | "none"
+    // kms: the device and output; "auto"/empty take the board profile's [display] choice.
+    std::string drmDevice = "auto";   // "auto" (the board's drm_drivers, else any) or /dev/dri/cardN
+    std::string connector;            // e.g. "HDMI-A-1"; empty: the board's, else the first connected
+    std::string plane = "auto";       // "auto" (the board's) | "primary" | "overlay"
+    std::string mode = "auto";        // "auto" (the connector's preferred) or "WIDTHxHEIGHT"
+    std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file (kms: the fallback)
     std::filesystem::path statusPath; // `lumar run` state as JSON, e.g. /run/lumar/status.json
+    bool operator==(const OutputConfig&) const = default;
 };
 
 struct Config {

@@ -1,12 +1,16 @@
 // The GPU's YCbCr background (background_ycbcr.frag) against the CPU converter the capture
 // thread uses (ycbcr_to_rgb): NV12 and YUYV, both matrices, both ranges, colour bars and
-// random bytes (footroom/headroom excursions included), within one code value per channel.
+// random bytes (footroom/headroom excursions included), within one code value per channel;
+// copied planes and lent (zero-copy) camera buffers alike.
 #include <random>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <linux/videodev2.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
+#include "capture/v4l2/v4l2_buffer.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/error.h"
 #include "gl_test_support.h"
@@ -83,6 +87,29 @@ YCbCrImage planesOf(const Case& c, const DriverFrame& frame)
     return image;
 }
 
+// The same frame lent rather than copied (zero-copy capture): the driver's bytes in a buffer
+// the planes are read from in place, exported as the virtual camera does (a memfd standing in
+// for the dmabuf). The renderer imports it where the display can, else uploads the mapping.
+YCbCrImage lentPlanesOf(const Case& c, const DriverFrame& frame)
+{
+    YCbCrImage image;
+    image.layout = c.layout;
+    image.width = kWidth;
+    image.height = kHeight;
+    image.colorimetry = c.colorimetry;
+    image.stride0 = frame.bytesPerLine;
+    image.stride1 = c.layout == YCbCrLayout::Nv12 ? frame.bytesPerLine : 0;
+    UniqueFd memfd(::memfd_create("lumar-lent-frame", MFD_CLOEXEC));
+    EXPECT_TRUE(memfd.valid());
+    EXPECT_EQ(::write(memfd.get(), frame.bytes.data(), frame.bytes.size()), ssize_t(frame.bytes.size()));
+    void* address = ::mmap(nullptr, frame.bytes.size(), PROT_READ, MAP_SHARED, memfd.get(), 0);
+    EXPECT_NE(address, MAP_FAILED);
+    image.buffer = std::make_shared<V4l2Buffer>(MappedRegion(address, frame.bytes.size()), UniqueFd(::dup(memfd.get())),
+                                                c.layout == YCbCrLayout::Nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV,
+                                                kHeight, frame.bytesPerLine);
+    return image;
+}
+
 Image8 cpuReference(const Case& c, const DriverFrame& frame)
 {
     const YCbCrConverter converter(c.colorimetry);
@@ -107,7 +134,7 @@ std::vector<Case> allCases()
 }
 
 // Renders every case (colour bars, then random bytes) and compares with the CPU converter.
-void expectMatchesCpu(SceneRenderer& renderer)
+void expectMatchesCpu(SceneRenderer& renderer, bool lent = false)
 {
     const CameraIntrinsics k = defaultIntrinsics(kWidth, kHeight);
     unsigned seed = 1;
@@ -116,7 +143,7 @@ void expectMatchesCpu(SceneRenderer& renderer)
             const DriverFrame frame = makeFrame(c, random, seed++);
             const Image8 expected = cpuReference(c, frame);
             Image8 out;
-            renderer.render(planesOf(c, frame), k, {});
+            renderer.render(lent ? lentPlanesOf(c, frame) : planesOf(c, frame), k, {});
             renderer.readback(out);
             ASSERT_EQ(out.width, kWidth);
             ASSERT_EQ(out.height, kHeight);
@@ -138,6 +165,33 @@ TEST(YcbcrBackground, MatchesTheCpuConverterInEveryLayoutMatrixAndRange)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
     expectMatchesCpu(renderer);
+}
+
+// Zero-copy frames: read in place from the lent buffer (here, without
+// EGL_EXT_image_dma_buf_import, by the plain upload) and drawn exactly like copied planes.
+TEST(YcbcrBackground, LentCameraBuffersMatchTheCpuConverter)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    expectMatchesCpu(renderer, true);
+}
+
+// The renderer lets go of a lent buffer by the next frame (an imported one is held until the
+// GPU has drawn it, an uploaded one not at all), so the capture source can queue it again.
+TEST(YcbcrBackground, LentBuffersAreReleasedByTheNextFrame)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const CameraIntrinsics k = defaultIntrinsics(kWidth, kHeight);
+    const Case c{YCbCrLayout::Nv12, {}};
+    std::weak_ptr<const CameraBuffer> first;
+    {
+        const YCbCrImage image = lentPlanesOf(c, makeFrame(c, false, 1));
+        first = image.buffer;
+        renderer.render(image, k, {});
+    }
+    Image8 out;
+    renderer.render(lentPlanesOf(c, makeFrame(c, false, 2)), k, {});
+    renderer.readback(out);
+    EXPECT_TRUE(first.expired());
 }
 
 TEST(YcbcrBackground, MatchesTheCpuConverterWithMultisampling)

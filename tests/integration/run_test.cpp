@@ -100,10 +100,28 @@ void replaceFile(const std::filesystem::path& file, const std::string& text)
     std::filesystem::rename(partial, file);
 }
 
-std::string sceneWritingTo(const std::string& video)
+// `cameraExtra` and `rest` are added to [camera] and after [output].
+std::string sceneWritingTo(const std::string& video, const std::string& cameraExtra = "", const std::string& rest = "")
 {
-    return "[camera]\nwidth = " + std::to_string(kWidth) + "\nheight = " + std::to_string(kHeight) +
-           "\n[output]\npath = \"" + video + "\"\nstatus_path = \"status.json\"\n";
+    return "[camera]\nwidth = " + std::to_string(kWidth) + "\nheight = " + std::to_string(kHeight) + "\n" +
+           cameraExtra + "[output]\npath = \"" + video + "\"\nstatus_path = \"status.json\"\n" + rest;
+}
+
+// Waits until the log holds `text` (`count` times); false after `limit`.
+bool waitForLog(const std::filesystem::path& log, const std::string& text, size_t count, std::chrono::seconds limit)
+{
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    for (;;) {
+        const std::string s = test::readText(log);
+        size_t found = 0;
+        for (size_t at = s.find(text); at != std::string::npos; at = s.find(text, at + 1))
+            ++found;
+        if (found >= count)
+            return true;
+        if (std::chrono::steady_clock::now() > deadline)
+            return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
 }
 
 bool waitForFrames(const std::filesystem::path& video, size_t frames, std::chrono::seconds limit)
@@ -129,9 +147,12 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     ASSERT_GT(pid, 0);
     ASSERT_TRUE(waitForFrames(dir / "a.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
 
-    // An edit on disk (rename over the file) is picked up by the watch.
+    // An edit on disk (rename over the file) is picked up by the watch. The camera is the
+    // same, so it and the GL context are kept.
     replaceFile(config, sceneWritingTo("b.y4m"));
     ASSERT_TRUE(waitForFrames(dir / "b.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+    EXPECT_TRUE(waitForLog(dir / "log.txt", "ms: kept camera, GL context", 1, std::chrono::seconds(10)))
+        << test::readText(dir / "log.txt");
 
     // A broken file is rejected with its line; the running configuration goes on.
     replaceFile(config, "[camera]\nwidth = \"wide\"\n");
@@ -150,10 +171,12 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
         << "frames keep flowing after a rejected file";
 
     // SIGHUP reloads too (the file is rewritten in place first, without an event in between
-    // being required).
-    replaceFile(config, sceneWritingTo("c.y4m"));
+    // being required). A [camera] change takes a new camera and GL context.
+    replaceFile(config, sceneWritingTo("c.y4m", "seed = 7\n"));
     ::kill(pid, SIGHUP);
     EXPECT_TRUE(waitForFrames(dir / "c.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+    EXPECT_TRUE(waitForLog(dir / "log.txt", "ms: new camera, GL context", 1, std::chrono::seconds(10)))
+        << test::readText(dir / "log.txt");
 
     // The status file reports the rejected file until a good one is accepted (it is
     // rewritten every second).
@@ -162,6 +185,8 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     EXPECT_EQ(json["config"], "ok") << json.dump();
     EXPECT_EQ(json["camera"], "ok") << json.dump();
     EXPECT_GT(json["frames"].get<long>(), 0);
+    EXPECT_GT(json["startup_ms"].get<double>(), 0.0) << json.dump();
+    EXPECT_GT(json["last_reload_ms"].get<double>(), 0.0) << json.dump();
     const auto perms = std::filesystem::status(dir / "status.json").permissions();
     EXPECT_NE(perms & std::filesystem::perms::others_read, std::filesystem::perms::none)
         << "status.json not world-readable";
@@ -171,6 +196,57 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     int status = 0;
     ASSERT_EQ(::waitpid(pid, &status, 0), pid);
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::readText(dir / "log.txt");
+}
+
+// Waits until status.json says `key` = `value`; the last status read.
+nlohmann::json waitForStatus(const std::filesystem::path& file, const std::string& key, int value,
+                             std::chrono::seconds limit)
+{
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    nlohmann::json json;
+    while (std::chrono::steady_clock::now() < deadline) {
+        json = nlohmann::json::parse(test::readText(file), nullptr, false);
+        if (!json.is_discarded() && json.contains(key) && json[key] == value)
+            break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return json;
+}
+
+TEST(RunReload, AModelChangeKeepsTheCameraAndGlContextAndShowsTheNewScene)
+{
+    const auto dir = test::scratchDirectory("run-reload-models");
+    const auto config = dir / "scene.toml";
+    const std::string marker = "[[markers]]\nid = 0\nsize = 0.16\n[rendering]\nenvironment_maps = \"off\"\n";
+    const std::string sphere = "[[objects]]\nname = \"ball\"\nmodel = \"builtin:sphere\"\nmarker = 0\nsize = 0.1\n";
+    const std::string cube = "[[objects]]\nname = \"box\"\nmodel = \"builtin:cube\"\nmarker = 0\n"
+                             "offset = [0.1, 0.0, 0.0]\nsize = 0.05\n";
+    std::ofstream(config) << sceneWritingTo("a.y4m", "", marker + sphere);
+    const pid_t pid = spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    ASSERT_GT(pid, 0);
+    auto json = waitForStatus(dir / "status.json", "objects_drawn", 1, std::chrono::seconds(60));
+    ASSERT_EQ(json["objects_drawn"], 1) << json.dump() << test::readText(dir / "log.txt");
+    EXPECT_GT(json["startup_ms"].get<double>(), 0.0) << json.dump();
+    EXPECT_TRUE(json["last_reload_ms"].is_null()) << json.dump();
+
+    // A second object: the scene changes, the camera and the GL context stay.
+    replaceFile(config, sceneWritingTo("a.y4m", "", marker + sphere + cube));
+    EXPECT_TRUE(waitForLog(dir / "log.txt", "ms: kept camera, GL context, tracker, environment map; models 1 → 2", 1,
+                           std::chrono::seconds(30)))
+        << test::readText(dir / "log.txt");
+    json = waitForStatus(dir / "status.json", "objects_drawn", 2, std::chrono::seconds(30));
+    EXPECT_EQ(json["objects_drawn"], 2) << json.dump() << test::readText(dir / "log.txt");
+    EXPECT_GT(json["last_reload_ms"].get<double>(), 0.0) << json.dump();
+
+    ASSERT_EQ(::kill(pid, SIGTERM), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::readText(dir / "log.txt");
+    // The recording went on through the reload: whole frames, one stream.
+    const std::string bytes = test::readText(dir / "a.y4m");
+    const size_t header = bytes.find('\n') + 1;
+    EXPECT_EQ((bytes.size() - header) % kY4mFrameBytes, 0u);
+    EXPECT_EQ(bytes.find("YUV4MPEG2", 1), std::string::npos) << "the recording was restarted";
 }
 
 // The systemd notify protocol against a datagram socket standing in for systemd.

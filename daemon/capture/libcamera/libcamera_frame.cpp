@@ -1,8 +1,11 @@
 #include "capture/libcamera/libcamera_frame.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include <libcamera/formats.h>
+
+#include "core/error.h"
 
 namespace lumar {
 namespace {
@@ -37,8 +40,25 @@ bool isConvertibleLibcameraFormat(const libcamera::PixelFormat& format)
     return std::find(formats.begin(), formats.end(), format) != formats.end();
 }
 
-libcamera::PixelFormat chooseLibcameraFormat(const std::vector<libcamera::PixelFormat>& offered)
+libcamera::PixelFormat libcameraFormatFromName(const std::string& name)
 {
+    if (name == "auto")
+        return {};
+    if (name == "nv12")
+        return libcamera::formats::NV12;
+    if (name == "yuyv")
+        return libcamera::formats::YUYV;
+    throw InputError("camera.format: '" + name +
+                     "' is not a format lumar reads from libcamera cameras (expected auto, nv12 or yuyv)");
+}
+
+libcamera::PixelFormat chooseLibcameraFormat(const std::vector<libcamera::PixelFormat>& offered,
+                                             const libcamera::PixelFormat& required)
+{
+    if (required.isValid()) {
+        return std::find(offered.begin(), offered.end(), required) != offered.end() ? required
+                                                                                    : libcamera::PixelFormat{};
+    }
     for (const libcamera::PixelFormat& format : convertibleLibcameraFormats()) {
         if (std::find(offered.begin(), offered.end(), format) != offered.end()) {
             return format;
@@ -102,6 +122,42 @@ void convertLibcameraImage(const DmabufMapping& mapping, const LibcameraLayout& 
                               layout.width, layout.height, frame.rgb, frame.luma);
     } else {
         converter.convertYuyv(mapping.plane(0), layout.stride, layout.width, layout.height, frame.rgb, frame.luma);
+    }
+}
+
+namespace {
+
+// Copies `rows` rows of `rowBytes` into `plane`, tightly packed (the stride's padding dropped).
+void copyPlane(const uint8_t* data, size_t stride, size_t rowBytes, int rows, std::vector<uint8_t>& plane)
+{
+    plane.resize(rowBytes * size_t(rows));
+    for (int row = 0; row < rows; ++row)
+        std::memcpy(plane.data() + rowBytes * size_t(row), data + stride * size_t(row), rowBytes);
+}
+
+} // namespace
+
+void keepLibcameraPlanes(const DmabufMapping& mapping, const LibcameraLayout& layout, const YCbCrConverter& converter,
+                         Frame& frame)
+{
+    YCbCrImage& raw = frame.ycbcr;
+    raw.width = layout.width;
+    raw.height = layout.height;
+    raw.colorimetry = converter.colorimetry();
+    const size_t width = size_t(layout.width);
+    if (layout.format == libcamera::formats::NV12) {
+        raw.layout = YCbCrLayout::Nv12;
+        copyPlane(mapping.plane(0), layout.stride, width, layout.height, raw.plane0);
+        copyPlane(nv12Chroma(mapping, layout).data, layout.stride, width, layout.height / 2, raw.plane1);
+        raw.stride0 = raw.stride1 = width;
+        converter.convertLuma(mapping.plane(0), layout.stride, 1, layout.width, layout.height, frame.luma);
+    } else {
+        raw.layout = YCbCrLayout::Yuyv;
+        copyPlane(mapping.plane(0), layout.stride, width * 2, layout.height, raw.plane0);
+        raw.plane1.clear();
+        raw.stride0 = width * 2;
+        raw.stride1 = 0;
+        converter.convertLuma(mapping.plane(0), layout.stride, 2, layout.width, layout.height, frame.luma);
     }
 }
 

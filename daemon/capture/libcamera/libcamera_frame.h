@@ -21,8 +21,15 @@ namespace lumar {
 const std::vector<libcamera::PixelFormat>& convertibleLibcameraFormats();
 bool isConvertibleLibcameraFormat(const libcamera::PixelFormat& format);
 
+// The format a config's camera.format names for libcamera: "nv12", "yuyv", or an invalid
+// (default) PixelFormat for "auto". Throws InputError for the formats only the V4L2 backend
+// reads ("mjpeg", "grey") and for any other name.
+libcamera::PixelFormat libcameraFormatFromName(const std::string& name);
+
 // The best of `offered` that lumar converts; an invalid (default) PixelFormat when none is.
-libcamera::PixelFormat chooseLibcameraFormat(const std::vector<libcamera::PixelFormat>& offered);
+// A valid `required` format (the config named it) is chosen when offered, else none is.
+libcamera::PixelFormat chooseLibcameraFormat(const std::vector<libcamera::PixelFormat>& offered,
+                                             const libcamera::PixelFormat& required = {});
 
 // The matrix and range of a stream's colour space. Without one (the pipeline did not say),
 // BT.601 limited range, what sensor ISPs and UVC cameras send unless told otherwise. BT.2020
@@ -47,5 +54,11 @@ std::string checkMappedImage(const DmabufMapping& mapping, const LibcameraLayout
 // Converts one mapped buffer (checked with checkMappedImage) into the frame's rgb and luma.
 void convertLibcameraImage(const DmabufMapping& mapping, const LibcameraLayout& layout, const YCbCrConverter& converter,
                            Frame& frame);
+
+// The same buffer kept in its YCbCr layout for the renderer's GPU conversion (like the V4L2
+// source with camera.convert = "gpu"): the planes copied tightly packed into frame.ycbcr with
+// the converter's matrix and range, and the tracker's luma filled.
+void keepLibcameraPlanes(const DmabufMapping& mapping, const LibcameraLayout& layout, const YCbCrConverter& converter,
+                         Frame& frame);
 
 } // namespace lumar

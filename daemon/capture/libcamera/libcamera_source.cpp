@@ -1,6 +1,7 @@
 #include "capture/libcamera/libcamera_source.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -8,12 +9,15 @@
 #include <libcamera/camera.h>
 #include <libcamera/camera_manager.h>
 #include <libcamera/control_ids.h>
+#include <libcamera/formats.h>
 #include <libcamera/framebuffer.h>
 #include <libcamera/framebuffer_allocator.h>
 #include <libcamera/request.h>
 #include <libcamera/stream.h>
 #include <time.h>
 
+#include "capture/libcamera/libcamera_buffer.h"
+#include "capture/libcamera/libcamera_controls.h"
 #include "capture/libcamera/libcamera_frame.h"
 #include "capture/libcamera/libcamera_manager.h"
 #include "capture/reconnecting_source.h"
@@ -39,6 +43,12 @@ std::string errorText(int negativeErrno)
     return std::strerror(-negativeErrno);
 }
 
+// "1280x720-NV12, 4 buffers": what a stream configuration asks for.
+std::string describeStream(const libcamera::StreamConfiguration& stream)
+{
+    return stream.toString() + ", " + std::to_string(stream.bufferCount) + " buffers";
+}
+
 } // namespace
 
 LibcameraSource::LibcameraSource(LibcameraOptions options) : options_(std::move(options))
@@ -50,6 +60,11 @@ LibcameraSource::LibcameraSource(LibcameraOptions options) : options_(std::move(
         shutdown();
         throw;
     }
+}
+
+void LibcameraSource::checkFormatName(const std::string& format)
+{
+    libcameraFormatFromName(format);
 }
 
 LibcameraSource::~LibcameraSource()
@@ -98,25 +113,30 @@ void LibcameraSource::configureStream()
         throw RuntimeError("libcamera: camera " + cameraId_ + " offers no viewfinder stream");
     }
     libcamera::StreamConfiguration& stream = configuration_->at(0);
-    const libcamera::PixelFormat format = chooseLibcameraFormat(stream.formats().pixelformats());
+    const libcamera::PixelFormat required = libcameraFormatFromName(options_.format);
+    const libcamera::PixelFormat format = chooseLibcameraFormat(stream.formats().pixelformats(), required);
     if (!format.isValid()) {
         std::string offered;
         for (const libcamera::PixelFormat& f : stream.formats().pixelformats()) {
             offered += (offered.empty() ? "" : ", ") + f.toString();
         }
-        throw RuntimeError("libcamera: camera " + cameraId_ + " has no viewfinder format lumar converts (offers " +
-                           (offered.empty() ? "none" : offered) + "; lumar converts NV12, YUYV)");
+        throw RuntimeError("libcamera: camera " + cameraId_ + " " +
+                           (required.isValid() ? "does not offer camera.format " + required.toString()
+                                               : std::string("has no viewfinder format lumar converts")) +
+                           " (offers " + (offered.empty() ? "none" : offered) + "; lumar converts NV12, YUYV)");
     }
     stream.pixelFormat = format;
     stream.size = libcamera::Size(unsigned(std::max(options_.width, 1)), unsigned(std::max(options_.height, 1)));
-    stream.bufferCount = unsigned(std::max(options_.bufferCount, 2));
-    const std::string requested = stream.toString();
+    stream.bufferCount =
+        unsigned(std::max(options_.bufferCount, 2) + (options_.zeroCopy && options_.rawYcbcr ? kLentBuffers : 0));
+    const std::string requested = describeStream(stream);
     switch (configuration_->validate()) {
     case libcamera::CameraConfiguration::Invalid:
         throw RuntimeError("libcamera: camera " + cameraId_ + " rejects the configuration " + requested);
     case libcamera::CameraConfiguration::Adjusted:
+        // Size, format and buffer count are what validate() may change.
         LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": configuration adjusted from " << requested
-                                 << " to " << stream.toString();
+                                 << " to " << describeStream(stream);
         break;
     case libcamera::CameraConfiguration::Valid:
         break;
@@ -131,15 +151,23 @@ void LibcameraSource::configureStream()
         throw RuntimeError("libcamera: camera " + cameraId_ + " replaced " + format.toString() + " by " +
                            layout.format.toString() + ", which lumar does not convert");
     }
+    if (required.isValid() && layout.format != required) {
+        LUMAR_LOG(Capture, Warn) << "libcamera: " << cameraId_ << ": camera.format " << required.toString()
+                                 << " was replaced by " << layout.format.toString() << " when validated";
+    }
     stream_ = stream.stream();
     width_ = layout.width;
     height_ = layout.height;
     stride_ = layout.stride;
     pixelFormat_ = layout.format.fourcc();
     converter_ = YCbCrConverter(colorimetryOfColorSpace(stream.colorSpace));
+    const YCbCrColorimetry colorimetry = converter_.colorimetry();
     LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": " << stream.toString() << ", colour space "
-                             << libcamera::ColorSpace::toString(stream.colorSpace)
-                             << (stream.colorSpace ? "" : " (assuming BT.601 limited range)");
+                             << libcamera::ColorSpace::toString(stream.colorSpace) << " ("
+                             << (colorimetry.matrix == YCbCrMatrix::Bt709 ? "BT.709" : "BT.601")
+                             << (colorimetry.fullRange ? " full range" : " limited range")
+                             << (stream.colorSpace ? "" : ", assumed") << ")"
+                             << (options_.rawYcbcr ? ", converted on the GPU" : "");
 }
 
 void LibcameraSource::allocateBuffers()
@@ -157,7 +185,7 @@ void LibcameraSource::allocateBuffers()
         if (const std::string problem = checkMappedImage(mapping, layout); !problem.empty()) {
             throw RuntimeError("libcamera: camera " + cameraId_ + ": unusable frame buffer: " + problem);
         }
-        mappings_.emplace(buffer.get(), std::move(mapping));
+        buffers_.emplace(buffer.get(), std::make_shared<LibcameraBuffer>(*buffer, std::move(mapping), layout));
 
         std::unique_ptr<libcamera::Request> request = camera_->createRequest();
         if (!request) {
@@ -180,11 +208,19 @@ void LibcameraSource::start()
     camera_->requestCompleted.connect(this, &LibcameraSource::onRequestCompleted);
     libcamera::ControlList controls(camera_->controls());
     fps_ = options_.fps;
-    if (options_.fps > 0.0 && camera_->controls().count(&libcamera::controls::FrameDurationLimits) != 0) {
-        // A fixed frame duration (minimum = maximum), in microseconds.
-        const auto frameUs = int64_t(std::lround(1e6 / options_.fps));
-        controls.set(libcamera::controls::FrameDurationLimits, {frameUs, frameUs});
+    if (const auto duration = frameDurationFor(options_.fps, camera_->controls())) {
+        // A fixed frame duration (minimum = maximum), in microseconds, within the camera's range.
+        controls.set(libcamera::controls::FrameDurationLimits, libcamera::Span<const int64_t, 2>(*duration));
+        fps_ = 1e6 / double((*duration)[0]);
+        if (std::abs(fps_ - options_.fps) > 0.01) {
+            LUMAR_LOG(Capture, Warn) << "libcamera: " << cameraId_ << ": " << options_.fps
+                                     << " fps is outside the camera's frame duration range; " << fps_ << " fps";
+        }
+    } else if (options_.fps > 0.0) {
+        LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": the camera has no FrameDurationLimits; "
+                                 << "assuming " << fps_ << " fps";
     }
+    addLibcameraControls(options_.controls, camera_->controls(), controls, cameraId_);
     if (const int error = camera_->start(&controls); error != 0) {
         throw RuntimeError("libcamera: camera " + cameraId_ + " fails to start: " + errorText(error));
     }
@@ -213,7 +249,8 @@ void LibcameraSource::shutdown() noexcept
         completed_.clear();
     }
     requests_.clear();
-    mappings_.clear(); // unmapped before the allocator frees the dmabufs
+    lent_.clear();    // stopped: none of them is to be queued again
+    buffers_.clear(); // unmapped, but for those frames still hold (they keep their own dmabufs)
     allocator_.reset();
     configuration_.reset();
     if (acquired_) {
@@ -266,8 +303,53 @@ void LibcameraSource::requeue(libcamera::Request* request)
     }
 }
 
+void LibcameraSource::returnLentBuffers()
+{
+    for (size_t i = 0; i < lent_.size();) {
+        const std::shared_ptr<LibcameraBuffer>& buffer = *lent_[i].buffer;
+        // Only this source hands the buffer out, so a count of 1 cannot rise again; the fence
+        // orders the frames' last reads before the camera may write the buffer again.
+        if (buffer.use_count() == 1) {
+            std::atomic_thread_fence(std::memory_order_acquire);
+            requeue(lent_[i].request);
+            lent_[i] = lent_.back();
+            lent_.pop_back();
+        } else {
+            ++i;
+        }
+    }
+}
+
+bool LibcameraSource::canLend() const
+{
+    // The request just completed, the lent ones, and at least two left with the camera.
+    constexpr size_t kKeptQueued = 2;
+    return options_.zeroCopy && options_.rawYcbcr && requests_.size() >= lent_.size() + 1 + kKeptQueued;
+}
+
+void LibcameraSource::lendBuffer(const std::shared_ptr<LibcameraBuffer>& buffer, const LibcameraLayout& layout,
+                                 Frame& frame) const
+{
+    YCbCrImage& raw = frame.ycbcr;
+    const bool nv12 = layout.format == libcamera::formats::NV12;
+    raw.layout = nv12 ? YCbCrLayout::Nv12 : YCbCrLayout::Yuyv;
+    raw.width = layout.width;
+    raw.height = layout.height;
+    raw.colorimetry = converter_.colorimetry();
+    raw.plane0.clear();
+    raw.plane1.clear();
+    raw.stride0 = layout.stride;
+    raw.stride1 = nv12 ? layout.stride : 0; // libcamera's NV12 chroma rows are as long as the luma rows
+    raw.buffer = buffer;
+    converter_.convertLuma(buffer->planes()[0].data, layout.stride, nv12 ? 1 : 2, layout.width, layout.height,
+                           frame.luma);
+}
+
 bool LibcameraSource::next(Frame& frame)
 {
+    // The buffer this frame object showed last is free now (unless a copy of it lives on).
+    frame.ycbcr.buffer.reset();
+    returnLentBuffers();
     // One deadline for the whole call, so a camera sending only corrupt frames times out like
     // a silent one.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.frameTimeoutMs);
@@ -285,8 +367,8 @@ bool LibcameraSource::next(Frame& frame)
             continue; // only while stopping; the request is not ours to queue again then
         }
         libcamera::FrameBuffer* buffer = request->findBuffer(stream_);
-        const auto mapping = buffer != nullptr ? mappings_.find(buffer) : mappings_.end();
-        if (mapping == mappings_.end()) {
+        const auto mapped = buffer != nullptr ? buffers_.find(buffer) : buffers_.end();
+        if (mapped == buffers_.end()) {
             throw RuntimeError("libcamera: camera " + cameraId_ + " completed a request without our buffer");
         }
         const libcamera::FrameMetadata& metadata = buffer->metadata();
@@ -314,7 +396,16 @@ bool LibcameraSource::next(Frame& frame)
             requeue(request);
             continue;
         }
-        convertLibcameraImage(mapping->second, layout, converter_, frame);
+        const bool lend = canLend();
+        if (lend) {
+            lendBuffer(mapped->second, layout, frame);
+        } else if (options_.rawYcbcr) {
+            keepLibcameraPlanes(mapped->second->mapping(), layout, converter_, frame);
+        } else {
+            // A frame object recycled from a raw frame must not carry stale planes.
+            frame.ycbcr.layout = YCbCrLayout::None;
+            convertLibcameraImage(mapped->second->mapping(), layout, converter_, frame);
+        }
         frame.sequence = metadata.sequence;
         // The sensor's start-of-exposure time (CLOCK_MONOTONIC) where the pipeline reports it,
         // else the buffer's completion time, which is on the same clock.
@@ -322,7 +413,11 @@ bool LibcameraSource::next(Frame& frame)
         frame.timestampNs = sensorNs                  ? *sensorNs
                             : metadata.timestamp != 0 ? int64_t(metadata.timestamp)
                                                       : monotonicNowNs();
-        requeue(request);
+        if (lend) {
+            lent_.push_back({request, &mapped->second}); // queued again once no frame holds it
+        } else {
+            requeue(request);
+        }
         return true;
     }
 }

@@ -1,8 +1,11 @@
 // A libcamera camera (a CSI sensor behind an ISP, or a UVC camera through libcamera's
 // uvcvideo pipeline) behind the CaptureSource interface: one Viewfinder stream in NV12 (or
-// YUYV), converted on the CPU to sRGB plus luma by the V4L2 backend's converter. Requests
-// complete on libcamera's thread into a queue next() waits on; the completed buffer is read
-// through a dmabuf mapping made once per buffer, and its request is queued again.
+// YUYV), converted on the CPU to sRGB plus luma by the V4L2 backend's converter, or handed to
+// the renderer as YCbCr planes (rawYcbcr): copied, or the frame buffers themselves lent
+// (zeroCopy) for the renderer to import their dmabufs. Controls from the config go with
+// start(). Requests complete on libcamera's thread into a queue next() waits on; the completed
+// buffer is read through a dmabuf mapping made once per buffer, and its request is queued
+// again (a lent one once no frame holds its buffer).
 // A failed or missing camera throws CameraUnavailable (a RuntimeError); reconnecting after an
 // unplug is the caller's job (ReconnectingSource).
 #pragma once
@@ -19,7 +22,6 @@
 #include <vector>
 
 #include "capture/capture_source.h"
-#include "capture/libcamera/dmabuf_mapping.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 
 namespace libcamera {
@@ -34,23 +36,40 @@ class Stream;
 
 namespace lumar {
 
+class LibcameraBuffer;
+struct LibcameraLayout;
+
 struct LibcameraOptions {
     // A libcamera camera id (as `lumar probe` lists them); anything else, such as the
     // config's default "/dev/video0", selects the first camera.
     std::string cameraId;
     int width = 1280; // requested; the pipeline's closest size wins
     int height = 720;
-    double fps = 30.0;         // requested through FrameDurationLimits where the camera has it
-    int bufferCount = 4;       // frame buffers (and requests) asked for
-    int frameTimeoutMs = 2000; // next() throws when no frame arrives for this long
+    double fps = 30.0;           // requested through FrameDurationLimits where the camera has it
+    int bufferCount = 4;         // frame buffers (and requests) asked for
+    int frameTimeoutMs = 2000;   // next() throws when no frame arrives for this long
+    std::string format = "auto"; // camera.format: "auto" (NV12, then YUYV), "nv12" or "yuyv"
+    CameraControlsConfig controls;
+    // true: deliver the planes as Frame::ycbcr (plus the tracker's luma) and leave the RGB
+    // conversion to the renderer's GPU; false: convert to Frame::rgb on the CPU.
+    bool rawYcbcr = false;
+    // With rawYcbcr: lend the frame buffers (dmabufs) to the frames instead of copying the
+    // planes out; a lent buffer's request is queued again when no frame holds the buffer.
+    // kLentBuffers more buffers are asked for so the camera keeps enough to fill.
+    bool zeroCopy = false;
 };
 
 class LibcameraSource final : public CaptureSource {
 public:
+    // Frame buffers a zero-copy stream asks for beyond bufferCount (see V4l2Source).
+    static constexpr int kLentBuffers = 3;
+
     // Picks, configures and starts the camera. Throws CameraUnavailable when libcamera finds
     // no camera (or none by that id is free), RuntimeError when the camera cannot be
     // configured in a format lumar converts or fails to start.
     explicit LibcameraSource(LibcameraOptions options);
+    // Throws InputError when camera.format names a format libcamera cameras are not read in.
+    static void checkFormatName(const std::string& format);
     ~LibcameraSource() override;
     LibcameraSource(const LibcameraSource&) = delete;
     LibcameraSource& operator=(const LibcameraSource&) = delete;
@@ -85,6 +104,11 @@ private:
     // Waits until `deadline` at most; nullptr on timeout. Throws when the camera is gone.
     libcamera::Request* waitForRequest(std::chrono::steady_clock::time_point deadline);
     void requeue(libcamera::Request* request);
+    // Zero-copy (as V4l2Source): whether the completed buffer can be lent, lending it, and
+    // queueing the requests of lent buffers no frame holds any more.
+    [[nodiscard]] bool canLend() const;
+    void lendBuffer(const std::shared_ptr<LibcameraBuffer>& buffer, const LibcameraLayout& layout, Frame& frame) const;
+    void returnLentBuffers();
 
     LibcameraOptions options_;
     std::shared_ptr<libcamera::CameraManager> manager_;
@@ -95,7 +119,13 @@ private:
     std::unique_ptr<libcamera::CameraConfiguration> configuration_;
     libcamera::Stream* stream_ = nullptr;
     std::unique_ptr<libcamera::FrameBufferAllocator> allocator_;
-    std::map<const libcamera::FrameBuffer*, DmabufMapping> mappings_;
+    // Each owns its mapping and dmabufs; a lent one lives on in the frames that hold it.
+    std::map<const libcamera::FrameBuffer*, std::shared_ptr<LibcameraBuffer>> buffers_;
+    struct Lent {
+        libcamera::Request* request;
+        const std::shared_ptr<LibcameraBuffer>* buffer; // its entry in buffers_
+    };
+    std::vector<Lent> lent_; // completed requests whose buffers frames hold
     std::vector<std::unique_ptr<libcamera::Request>> requests_;
 
     int width_ = 0;

@@ -1,6 +1,7 @@
 #include "capture/v4l2/v4l2_source.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -177,7 +178,9 @@ void V4l2Source::mapBuffers()
 {
     const std::string& device = options_.device;
     v4l2_requestbuffers request{};
-    request.count = uint32_t(std::max(options_.bufferCount, kMinimumBuffers));
+    const bool lending = options_.zeroCopy && options_.rawYcbcr &&
+                         (pixelFormat_ == V4L2_PIX_FMT_NV12 || pixelFormat_ == V4L2_PIX_FMT_YUYV);
+    request.count = uint32_t(std::max(options_.bufferCount, kMinimumBuffers) + (lending ? kLentBuffers : 0));
     request.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     request.memory = V4L2_MEMORY_MMAP;
     v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_REQBUFS, &request, "VIDIOC_REQBUFS (MMAP)");
@@ -189,6 +192,8 @@ void V4l2Source::mapBuffers()
         LUMAR_LOG(Capture, Warn) << device << ": only " << request.count << " buffers granted; frames may drop";
     }
     buffers_.reserve(request.count);
+    exportedCount_ = 0;
+    std::string exportError; // the first failure; the driver will not export the others either
     for (uint32_t index = 0; index < request.count; ++index) {
         v4l2_buffer buffer{};
         buffer.index = index;
@@ -204,7 +209,20 @@ void V4l2Source::mapBuffers()
         if (address == MAP_FAILED) {
             throwDeviceError(device, "mmap of a capture buffer", errno);
         }
-        buffers_.emplace_back(address, buffer.length);
+        MappedRegion mapping(address, buffer.length);
+        // Exported once for the stream's life: the renderer imports each buffer once too.
+        UniqueFd dmabuf;
+        if (lending && exportError.empty()) {
+            dmabuf = exportV4l2Buffer(fd_.get(), index, exportError);
+        }
+        exportedCount_ += dmabuf.valid() ? 1 : 0;
+        buffers_.push_back(
+            std::make_shared<V4l2Buffer>(std::move(mapping), std::move(dmabuf), pixelFormat_, height_, bytesPerLine_));
+    }
+    if (lending) {
+        LUMAR_LOG(Capture, Info) << device << ": " << buffers_.size() << " buffers lent to the renderer (zero-copy), "
+                                 << (exportError.empty() ? "exported as dmabufs"
+                                                         : "not exported (" + exportError + "): uploaded from memory");
     }
 }
 
@@ -256,7 +274,8 @@ void V4l2Source::restartAfterSourceChange()
     int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_STREAMOFF, &type, "VIDIOC_STREAMOFF");
     streaming_ = false;
-    buffers_.clear(); // unmapped before the buffers are freed
+    buffers_.clear(); // unmapped before the buffers are freed, but for those frames still hold
+    lent_.clear();    // they are not the new stream's to queue
     v4l2_requestbuffers release{};
     release.count = 0;
     release.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
@@ -333,7 +352,7 @@ bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer, int64_t deadline)
                                  << " (" << framesDropped_ << " in all)";
     }
     lastSequence_ = buffer.sequence;
-    const size_t length = buffers_[buffer.index].size();
+    const size_t length = buffers_[buffer.index]->size();
     if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < std::max<size_t>(imageSize_, 1) ||
         buffer.bytesused > length) {
         countCorrupt(buffer.sequence, std::to_string(buffer.bytesused) + " bytes of " +
@@ -355,8 +374,53 @@ void V4l2Source::countCorrupt(uint32_t sequence, const std::string& why)
     }
 }
 
+void V4l2Source::returnLentBuffers()
+{
+    for (size_t i = 0; i < lent_.size();) {
+        // Only this source copies the pointers out, so a count of 1 cannot rise again; the
+        // fence orders the frames' last reads before the driver may write the buffer again.
+        if (buffers_[lent_[i]].use_count() == 1) {
+            std::atomic_thread_fence(std::memory_order_acquire);
+            queueBuffer(lent_[i]);
+            lent_[i] = lent_.back();
+            lent_.pop_back();
+        } else {
+            ++i;
+        }
+    }
+}
+
+bool V4l2Source::canLend() const
+{
+    // The buffer just dequeued, the lent ones, and at least two left for the driver to fill.
+    constexpr size_t kKeptQueued = 2;
+    return options_.zeroCopy && options_.rawYcbcr &&
+           (pixelFormat_ == V4L2_PIX_FMT_NV12 || pixelFormat_ == V4L2_PIX_FMT_YUYV) &&
+           buffers_.size() >= lent_.size() + 1 + kKeptQueued;
+}
+
+void V4l2Source::lendBuffer(uint32_t index, Frame& frame)
+{
+    YCbCrImage& raw = frame.ycbcr;
+    raw.width = width_;
+    raw.height = height_;
+    raw.colorimetry = converter_.colorimetry();
+    raw.layout = pixelFormat_ == V4L2_PIX_FMT_NV12 ? YCbCrLayout::Nv12 : YCbCrLayout::Yuyv;
+    raw.plane0.clear();
+    raw.plane1.clear();
+    raw.stride0 = bytesPerLine_;
+    raw.stride1 = pixelFormat_ == V4L2_PIX_FMT_NV12 ? bytesPerLine_ : 0;
+    raw.buffer = buffers_[index];
+    lent_.push_back(index);
+    converter_.convertLuma(buffers_[index]->data(), bytesPerLine_, pixelFormat_ == V4L2_PIX_FMT_NV12 ? 1 : 2, width_,
+                           height_, frame.luma);
+}
+
 bool V4l2Source::next(Frame& frame)
 {
+    // The buffer this frame object showed last is free now (unless a copy of it lives on).
+    frame.ycbcr.buffer.reset();
+    returnLentBuffers();
     v4l2_buffer buffer{};
     // One deadline for the whole call, so a camera sending nothing but corrupt frames times
     // out like a silent one instead of keeping the caller here for ever.
@@ -367,7 +431,12 @@ bool V4l2Source::next(Frame& frame)
             continue;
         }
         const int64_t convertStart = monotonicNowNs();
-        const bool converted = convert(buffers_[buffer.index].data(), buffer.bytesused, frame);
+        if (canLend()) {
+            lendBuffer(buffer.index, frame); // queued again once no frame holds it
+            lastConversionNs_ = monotonicNowNs() - convertStart;
+            break;
+        }
+        const bool converted = convert(buffers_[buffer.index]->data(), buffer.bytesused, frame);
         lastConversionNs_ = monotonicNowNs() - convertStart;
         queueBuffer(buffer.index);
         if (converted) {

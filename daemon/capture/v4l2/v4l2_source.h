@@ -1,5 +1,6 @@
 // A V4L2 capture device (a USB/CSI camera's /dev/videoN) behind the CaptureSource interface:
-// single-planar MMAP streaming, NV12/YUYV/GREY converted on the CPU to sRGB plus luma, MJPEG
+// single-planar MMAP streaming, NV12/YUYV/GREY converted on the CPU to sRGB plus luma (or NV12
+// and YUYV handed to the renderer: copied, or the buffers themselves lent as dmabufs), MJPEG
 // decoded with libturbojpeg. Controls from the config are applied after the open. A
 // V4L2_EVENT_SOURCE_CHANGE (the input's resolution changed) restarts the stream at the new
 // size, or, when the caller cannot take a new size, is a RuntimeError.
@@ -15,8 +16,8 @@
 #include <linux/videodev2.h>
 
 #include "capture/capture_source.h"
-#include "capture/v4l2/mapped_region.h"
 #include "capture/v4l2/mjpeg_decoder.h"
+#include "capture/v4l2/v4l2_buffer.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/unique_fd.h"
 
@@ -39,10 +40,20 @@ struct V4l2Options {
     // luma) and leave the RGB conversion to the renderer's GPU; false, convert to Frame::rgb
     // on the CPU. MJPEG and GREY are always converted here.
     bool rawYcbcr = false;
+    // With rawYcbcr: lend the driver's buffers to the frames (Frame::ycbcr.buffer) instead of
+    // copying the planes out, each exported once as a dmabuf (VIDIOC_EXPBUF) for the
+    // renderer to import; a lent buffer goes back to the driver when no frame holds it.
+    // kLentBuffers more buffers are requested so the driver keeps enough to fill.
+    bool zeroCopy = false;
 };
 
 class V4l2Source final : public CaptureSource {
 public:
+    // Buffers a zero-copy stream asks for beyond bufferCount: the frames in flight between
+    // capture and display (the prefetched one, the one on screen, the one the renderer holds
+    // until the GPU is done with it).
+    static constexpr int kLentBuffers = 3;
+
     // Opens, negotiates and starts streaming. Throws RuntimeError when the device cannot be
     // opened, is not a streaming capture device, or offers no format lumar converts.
     explicit V4l2Source(V4l2Options options);
@@ -61,6 +72,10 @@ public:
     [[nodiscard]] uint32_t pixelFormat() const { return pixelFormat_; }
     [[nodiscard]] YCbCrColorimetry colorimetry() const { return converter_.colorimetry(); }
     [[nodiscard]] size_t bufferCount() const { return buffers_.size(); }
+    // Buffers frames hold now (zero-copy), and how many of the stream's buffers the driver
+    // exported as dmabufs.
+    [[nodiscard]] size_t buffersLent() const { return lent_.size(); }
+    [[nodiscard]] size_t buffersExported() const { return exportedCount_; }
     // Frames the driver numbered but never delivered (sequence gaps).
     [[nodiscard]] uint64_t framesDropped() const { return framesDropped_; }
     // Frames delivered short (bytesused below the image size), flagged as errors, or (MJPEG)
@@ -90,11 +105,21 @@ private:
     bool convert(const uint8_t* data, size_t bytesUsed, Frame& frame);
     // Copies an NV12/YUYV buffer's planes into frame.ycbcr and fills frame.luma.
     void keepRawPlanes(const uint8_t* data, Frame& frame) const;
+    // Zero-copy: whether the buffer just dequeued can be lent (an NV12/YUYV stream asked to,
+    // with at least two other buffers still with the driver), and lending it to the frame.
+    [[nodiscard]] bool canLend() const;
+    void lendBuffer(uint32_t index, Frame& frame);
+    // Queues the lent buffers no frame holds any more.
+    void returnLentBuffers();
     void countCorrupt(uint32_t sequence, const std::string& why);
 
     V4l2Options options_;
     UniqueFd fd_;
-    std::vector<MappedRegion> buffers_; // destroyed before fd_: unmapped before the close
+    // Each owns its mapping (and dmabuf); a lent one lives on in the frames that hold it,
+    // even after this source is gone (a mapping outlives the close of the device).
+    std::vector<std::shared_ptr<V4l2Buffer>> buffers_;
+    std::vector<uint32_t> lent_; // indices of dequeued buffers that frames hold
+    size_t exportedCount_ = 0;
     bool streaming_ = false;
     uint32_t pixelFormat_ = 0;
     int width_ = 0;

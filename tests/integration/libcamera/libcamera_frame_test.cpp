@@ -5,15 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <libcamera/formats.h>
 #include <libcamera/framebuffer.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "capture/libcamera/dmabuf_mapping.h"
+#include "capture/libcamera/libcamera_buffer.h"
 #include "capture/libcamera/libcamera_frame.h"
 #include "core/error.h"
 #include "core/unique_fd.h"
@@ -228,6 +231,128 @@ TEST(LibcameraFrame, FormatPreferenceIsNv12ThenYuyv)
     EXPECT_FALSE(chooseLibcameraFormat({}).isValid());
 }
 
+TEST(LibcameraFrame, ConfiguredFormatIsTakenWhenOfferedAndOnlyThen)
+{
+    using namespace libcamera::formats;
+    EXPECT_FALSE(libcameraFormatFromName("auto").isValid());
+    EXPECT_EQ(libcameraFormatFromName("nv12"), NV12);
+    EXPECT_EQ(libcameraFormatFromName("yuyv"), YUYV);
+    for (const char* name : {"mjpeg", "grey", "rgb"}) {
+        try {
+            libcameraFormatFromName(name);
+            ADD_FAILURE() << name << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(std::string("camera.format: '") + name + "'"), std::string::npos)
+                << e.what();
+        }
+    }
+    // Required YUYV wins over the preferred NV12; a required format the camera lacks is none.
+    EXPECT_EQ(chooseLibcameraFormat({NV12, YUYV}, YUYV), YUYV);
+    EXPECT_FALSE(chooseLibcameraFormat({NV12, MJPEG}, YUYV).isValid());
+    EXPECT_EQ(chooseLibcameraFormat({NV12, YUYV}, libcameraFormatFromName("auto")), NV12);
+}
+
+// The planes kept for the GPU: tightly packed copies of the buffer's rows (padding dropped),
+// the stream's colorimetry, and the tracker's luma as the CPU conversion writes it.
+TEST(LibcameraFrame, PlanesKeptForTheGpuAreTheBuffersRowsWithoutPadding)
+{
+    const size_t stride = 96;
+    const std::vector<uint8_t> bytes = nv12Bytes(stride);
+    const UniqueFd fd = memfdWith(bytes);
+    const unsigned lumaBytes = unsigned(stride * kHeight);
+    const auto buffer = bufferOf(fd, {{0, lumaBytes}, {lumaBytes, lumaBytes / 2}});
+    const DmabufMapping mapping(*buffer);
+    const LibcameraLayout layout{libcamera::formats::NV12, kWidth, kHeight, stride};
+    const YCbCrColorimetry colorimetry{YCbCrMatrix::Bt709, true};
+    const YCbCrConverter converter(colorimetry);
+    Frame frame;
+    keepLibcameraPlanes(mapping, layout, converter, frame);
+    const YCbCrImage& raw = frame.ycbcr;
+    ASSERT_EQ(raw.layout, YCbCrLayout::Nv12);
+    EXPECT_EQ(raw.width, kWidth);
+    EXPECT_EQ(raw.height, kHeight);
+    EXPECT_EQ(raw.colorimetry.matrix, YCbCrMatrix::Bt709);
+    EXPECT_TRUE(raw.colorimetry.fullRange);
+    ASSERT_EQ(raw.stride0, size_t(kWidth));
+    ASSERT_EQ(raw.stride1, size_t(kWidth));
+    ASSERT_EQ(raw.plane0.size(), size_t(kWidth * kHeight));
+    ASSERT_EQ(raw.plane1.size(), size_t(kWidth * kHeight / 2));
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            ASSERT_EQ(raw.plane0[size_t(y * kWidth + x)], lumaAt(x, y)) << x << "," << y;
+    for (int cy = 0; cy < kHeight / 2; ++cy)
+        for (int cx = 0; cx < kWidth / 2; ++cx) {
+            ASSERT_EQ(raw.plane1[size_t(cy * kWidth + cx * 2)], cbAt(cx, cy));
+            ASSERT_EQ(raw.plane1[size_t(cy * kWidth + cx * 2 + 1)], crAt(cx, cy));
+        }
+    Frame converted;
+    convertLibcameraImage(mapping, layout, converter, converted);
+    EXPECT_EQ(frame.luma.data, converted.luma.data);
+
+    // YUYV: one plane of 2 bytes per pixel.
+    const size_t yuyvStride = kWidth * 2 + 16;
+    std::vector<uint8_t> yuyv(yuyvStride * kHeight, 0x55);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth * 2; ++x)
+            yuyv[size_t(y) * yuyvStride + size_t(x)] = uint8_t(x + y);
+    const UniqueFd yuyvFd = memfdWith(yuyv);
+    const auto yuyvBuffer = bufferOf(yuyvFd, {{0, unsigned(yuyv.size())}});
+    keepLibcameraPlanes(DmabufMapping(*yuyvBuffer), {libcamera::formats::YUYV, kWidth, kHeight, yuyvStride}, converter,
+                        frame);
+    ASSERT_EQ(frame.ycbcr.layout, YCbCrLayout::Yuyv);
+    EXPECT_EQ(frame.ycbcr.stride0, size_t(kWidth * 2));
+    EXPECT_TRUE(frame.ycbcr.plane1.empty());
+    ASSERT_EQ(frame.ycbcr.plane0.size(), size_t(kWidth * 2 * kHeight));
+    EXPECT_EQ(frame.ycbcr.plane0[size_t(5 * kWidth * 2 + 7)], uint8_t(7 + 5));
+}
+
+// Same file, same inode: `a` and `b` are descriptors of one memfd (or dmabuf).
+bool sameFile(int a, int b)
+{
+    struct stat sa {};
+    struct stat sb {};
+    return ::fstat(a, &sa) == 0 && ::fstat(b, &sb) == 0 && sa.st_ino == sb.st_ino && sa.st_dev == sb.st_dev;
+}
+
+// A lent buffer describes its planes in memory and as dmabufs, and keeps both alive after the
+// FrameBuffer (and the allocator's descriptors) are gone.
+TEST(LibcameraFrame, LentBuffersDescribeTheirPlanesAndOutliveTheFrameBuffer)
+{
+    const size_t stride = 96;
+    const unsigned lumaBytes = unsigned(stride * kHeight);
+    const LibcameraLayout layout{libcamera::formats::NV12, kWidth, kHeight, stride};
+    std::shared_ptr<LibcameraBuffer> twoPlanes;
+    std::shared_ptr<LibcameraBuffer> onePlane;
+    {
+        const UniqueFd fd = memfdWith(nv12Bytes(stride));
+        const auto buffer = bufferOf(fd, {{0, lumaBytes}, {lumaBytes, lumaBytes / 2}});
+        twoPlanes = std::make_shared<LibcameraBuffer>(*buffer, DmabufMapping(*buffer), layout);
+        const auto whole = bufferOf(fd, {{0, lumaBytes * 3 / 2}});
+        onePlane = std::make_shared<LibcameraBuffer>(*whole, DmabufMapping(*whole), layout);
+        for (const auto& lent : {twoPlanes, onePlane}) {
+            EXPECT_TRUE(lent->exported());
+            EXPECT_EQ(lent->drmFourcc(), libcamera::formats::NV12.fourcc());
+            const auto& planes = lent->planes();
+            EXPECT_TRUE(sameFile(planes[0].dmabufFd, fd.get()));
+            EXPECT_NE(planes[0].dmabufFd, fd.get());           // its own descriptor
+            EXPECT_EQ(planes[1].dmabufFd, planes[0].dmabufFd); // one dmabuf, duplicated once
+            EXPECT_EQ(planes[0].offset, 0u);
+            EXPECT_EQ(planes[1].offset, lumaBytes);
+            EXPECT_EQ(planes[0].size, lumaBytes);
+            EXPECT_EQ(planes[1].size, lumaBytes / 2);
+            EXPECT_EQ(planes[1].data - planes[0].data, std::ptrdiff_t(lumaBytes));
+        }
+    } // the memfd and both FrameBuffers are gone here
+    for (const auto& lent : {twoPlanes, onePlane}) {
+        const auto& planes = lent->planes();
+        EXPECT_EQ(planes[0].data[size_t(5) * stride + 7], lumaAt(7, 5));
+        EXPECT_EQ(planes[1].data[size_t(3) * stride + 2 * 4], cbAt(4, 3));
+        uint8_t byte = 0;
+        ASSERT_EQ(::pread(planes[1].dmabufFd, &byte, 1, off_t(lumaBytes + 3 * stride + 2 * 4 + 1)), 1);
+        EXPECT_EQ(byte, crAt(4, 3));
+    }
+}
+
 TEST(LibcameraFrame, ColorimetryFollowsTheStreamsColourSpace)
 {
     const auto check = [](const std::optional<libcamera::ColorSpace>& space, YCbCrMatrix matrix, bool fullRange) {
@@ -240,6 +365,10 @@ TEST(LibcameraFrame, ColorimetryFollowsTheStreamsColourSpace)
     check(libcamera::ColorSpace::Sycc, YCbCrMatrix::Bt601, true); // JPEG-style full range
     check(libcamera::ColorSpace::Rec709, YCbCrMatrix::Bt709, false);
     check(libcamera::ColorSpace::Rec2020, YCbCrMatrix::Bt709, false); // the closer matrix
+    check(libcamera::ColorSpace::Srgb, YCbCrMatrix::Bt601, true);     // sRGB: no YCbCr encoding, full range
+    libcamera::ColorSpace fullRec709 = libcamera::ColorSpace::Rec709;
+    fullRec709.range = libcamera::ColorSpace::Range::Full;
+    check(fullRec709, YCbCrMatrix::Bt709, true);
 }
 
 } // namespace

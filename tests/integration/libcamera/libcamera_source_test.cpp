@@ -12,6 +12,7 @@
 #include "capture/libcamera/libcamera_source.h"
 #include "capture/reconnecting_source.h"
 #include "config/config.h"
+#include "core/error.h"
 #include "core/frame.h"
 
 namespace lumar {
@@ -57,6 +58,19 @@ TEST(LibcameraSource, OpenedThroughTheConfigLikeV4l2)
     // The first open is not retried: the caller learns at once that there is no camera.
     EXPECT_THROW(openCaptureSource(config), CameraUnavailable);
     EXPECT_LT(secondsSince(start), 5.0);
+}
+
+TEST(LibcameraSource, AFormatLibcameraCamerasAreNotReadInIsBadInputBeforeAnyCameraOpens)
+{
+    CameraConfig config;
+    config.source = "libcamera";
+    config.format = "mjpeg"; // valid for v4l2, not for libcamera
+    try {
+        openCaptureSource(config);
+        FAIL() << "accepted camera.format mjpeg for libcamera";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("camera.format: 'mjpeg'"), std::string::npos) << e.what();
+    }
 }
 
 TEST(LibcameraSource, ProbeAndSourceShareOneManager)

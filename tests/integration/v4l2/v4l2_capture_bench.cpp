@@ -4,7 +4,8 @@
 // time) at 30 fps. The virtual camera synthesises its frames inside the capturing thread's
 // own ioctl/poll calls, so that CPU figure includes the device's work too; the conversion
 // alone is the part a real camera would cost. "/g" rows keep the NV12/YUYV planes for the
-// renderer's GPU conversion (camera.convert = "gpu"). Not a test: numbers for DESIGN.md §9.
+// renderer's GPU conversion (camera.convert = "gpu"), "/z" lend the buffers instead of copying
+// them (camera.zero_copy = "auto"). Not a test: numbers for DESIGN.md §9.
 //
 //   LD_PRELOAD=build/tests/vcam/liblumar_vcam.so LUMAR_VCAM_DEVICE=/dev/video-bench
 //   build/tests/integration/v4l2/v4l2_capture_bench [frames]       (one command line)
@@ -46,9 +47,11 @@ int main(int argc, char** argv)
         const char* vcamFormats;
         const char* name;
         bool rawYcbcr = false; // planes kept for the GPU: copies plus luma, no RGB
+        bool zeroCopy = false; // with rawYcbcr: the buffers lent, luma only
     };
-    for (Case c : {Case{"NV12", "NV12"}, Case{"NV12", "NV12/g", true}, Case{"YUYV", "YUYV"},
-                   Case{"YUYV", "YUYV/g", true}, Case{"MJPG", "MJPEG"}, Case{"GREY", "GREY"}}) {
+    for (Case c : {Case{"NV12", "NV12"}, Case{"NV12", "NV12/g", true}, Case{"NV12", "NV12/z", true, true},
+                   Case{"YUYV", "YUYV"}, Case{"YUYV", "YUYV/g", true}, Case{"YUYV", "YUYV/z", true, true},
+                   Case{"MJPG", "MJPEG"}, Case{"GREY", "GREY"}}) {
         setenv("LUMAR_VCAM_FORMATS", c.vcamFormats, 1);
         lumar::V4l2Options options;
         options.device = device;
@@ -56,6 +59,7 @@ int main(int argc, char** argv)
         options.height = 720;
         options.fps = 30.0;
         options.rawYcbcr = c.rawYcbcr;
+        options.zeroCopy = c.zeroCopy;
         lumar::V4l2Source source(options);
         lumar::Frame frame;
         source.next(frame); // first frame: buffers sized, decoder warmed up

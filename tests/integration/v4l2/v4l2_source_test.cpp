@@ -3,7 +3,9 @@
 // configures the device through LUMAR_VCAM_* variables before opening it (the device reads
 // them when its first handle opens).
 #include <cstdlib>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -14,6 +16,7 @@
 
 #include "capture/v4l2/v4l2_controls.h"
 #include "capture/v4l2/v4l2_format.h"
+#include "capture/v4l2/v4l2_ioctl.h"
 #include "capture/v4l2/v4l2_source.h"
 #include "core/error.h"
 #include "vcam/vcam_pattern.h"
@@ -473,6 +476,132 @@ TEST_F(V4l2SourceTest, SourceChangeIsAnErrorForAFixedSizeCaller)
         EXPECT_NE(std::string(error.what()).find("changed resolution from 640x480 to 1280x720"), std::string::npos)
             << error.what();
     }
+}
+
+// A raw (NV12/YUYV) frame converted on the CPU from wherever its planes live, so the colour
+// bars and the block can be checked as for converted frames.
+void convertRawPlanes(Frame& frame)
+{
+    const YCbCrImage& raw = frame.ycbcr;
+    const YCbCrConverter converter(raw.colorimetry);
+    Image8 luma;
+    if (raw.layout == YCbCrLayout::Nv12)
+        converter.convertNv12(raw.planeData(0), raw.stride0, raw.planeData(1), raw.stride1, raw.width, raw.height,
+                              frame.rgb, luma);
+    else
+        converter.convertYuyv(raw.planeData(0), raw.stride0, raw.width, raw.height, frame.rgb, luma);
+    EXPECT_EQ(luma.data, frame.luma.data); // the tracker's luma is read from the same planes
+}
+
+V4l2Options zeroCopy(V4l2Options o)
+{
+    o.rawYcbcr = true;
+    o.zeroCopy = true;
+    return o;
+}
+
+TEST_F(V4l2SourceTest, ZeroCopyFramesBorrowTheDriversExportedBuffers)
+{
+    for (const uint32_t format : {V4L2_PIX_FMT_NV12, V4L2_PIX_FMT_YUYV}) {
+        const std::string name = fourccName(format);
+        setenv("LUMAR_VCAM_FORMATS", name.c_str(), 1);
+        V4l2Source source(zeroCopy(options()));
+        ASSERT_EQ(source.pixelFormat(), format);
+        // The requested 8, plus the frames in flight.
+        EXPECT_EQ(source.bufferCount(), size_t(8 + V4l2Source::kLentBuffers)) << name;
+        EXPECT_EQ(source.buffersExported(), source.bufferCount()) << name;
+        Frame frame;
+        for (int i = 0; i < 30; ++i) {
+            ASSERT_TRUE(source.next(frame));
+            const YCbCrImage& raw = frame.ycbcr;
+            ASSERT_TRUE(raw.buffer) << name << " frame " << i;
+            EXPECT_TRUE(raw.plane0.empty());
+            EXPECT_TRUE(raw.buffer->exported());
+            EXPECT_EQ(raw.buffer->drmFourcc(), format); // DRM and V4L2 spell NV12 and YUYV alike
+            EXPECT_GE(raw.stride0, size_t(raw.width) * (format == V4L2_PIX_FMT_NV12 ? 1 : 2));
+            if (format == V4L2_PIX_FMT_NV12) {
+                EXPECT_EQ(raw.buffer->planes()[1].offset, raw.stride0 * size_t(raw.height));
+                EXPECT_EQ(raw.buffer->planes()[1].data, raw.buffer->planes()[0].data + raw.stride0 * raw.height);
+            }
+            // The exported descriptor is the buffer's memory (the virtual camera's is a memfd,
+            // which pread reads; a kernel dmabuf would need mmap).
+            std::vector<uint8_t> exported(raw.stride0 * 4);
+            ASSERT_EQ(::pread(raw.buffer->planes()[0].dmabufFd, exported.data(), exported.size(), 0),
+                      ssize_t(exported.size()));
+            EXPECT_EQ(std::memcmp(exported.data(), raw.planeData(0), exported.size()), 0) << name;
+            convertRawPlanes(frame);
+            EXPECT_LE(worstBarError(frame, false), 2) << name << " frame " << i;
+            EXPECT_TRUE(blockWhereSequenceSays(frame)) << name << " frame " << i;
+            // Only this frame holds a buffer: the one it held before went back to the driver.
+            EXPECT_EQ(source.buffersLent(), 1u) << name << " frame " << i;
+        }
+        EXPECT_EQ(source.framesDropped(), 0u) << name;
+    }
+}
+
+// Frames kept longer than the stream has spare buffers for: the driver keeps two to fill and
+// the rest arrive as copies; the held frames are never overwritten; once let go, their
+// buffers are lent again.
+TEST_F(V4l2SourceTest, HeldZeroCopyFramesKeepTheirBuffersWhileTheStreamGoesOn)
+{
+    setenv("LUMAR_VCAM_FORMATS", "NV12", 1);
+    V4l2Source source(zeroCopy(options()));
+    const size_t buffers = source.bufferCount();
+    std::vector<Frame> held(buffers + 4);
+    for (Frame& frame : held)
+        ASSERT_TRUE(source.next(frame));
+    EXPECT_EQ(source.buffersLent(), buffers - 2); // all but the two the driver keeps filling
+    size_t copies = 0;
+    for (Frame& frame : held) {
+        copies += frame.ycbcr.buffer ? 0 : 1;
+        if (!frame.ycbcr.buffer) {
+            EXPECT_FALSE(frame.ycbcr.plane0.empty());
+        }
+        convertRawPlanes(frame);
+        EXPECT_TRUE(blockWhereSequenceSays(frame)) << "frame " << frame.sequence;
+        EXPECT_LE(worstBarError(frame, false), 2) << "frame " << frame.sequence;
+    }
+    EXPECT_EQ(copies, held.size() - (buffers - 2));
+    held.clear();
+    Frame frame;
+    ASSERT_TRUE(source.next(frame));
+    EXPECT_TRUE(frame.ycbcr.buffer);
+    EXPECT_EQ(source.buffersLent(), 1u);
+    EXPECT_EQ(source.framesDropped(), 0u);
+}
+
+// A frame may outlive its source (a camera reopened after an unplug while the last frame is
+// still on screen): its buffer's mapping goes with the frame, not with the source.
+TEST_F(V4l2SourceTest, ZeroCopyFramesOutliveTheirSource)
+{
+    setenv("LUMAR_VCAM_FORMATS", "YUYV", 1);
+    Frame frame;
+    {
+        V4l2Source source(zeroCopy(options()));
+        ASSERT_TRUE(source.next(frame));
+        ASSERT_TRUE(source.next(frame));
+    }
+    ASSERT_TRUE(frame.ycbcr.buffer);
+    EXPECT_EQ(frame.ycbcr.buffer.use_count(), 1);
+    convertRawPlanes(frame);
+    EXPECT_LE(worstBarError(frame, false), 2);
+    EXPECT_TRUE(blockWhereSequenceSays(frame));
+}
+
+TEST_F(V4l2SourceTest, WithoutZeroCopyThePlanesAreCopied)
+{
+    setenv("LUMAR_VCAM_FORMATS", "NV12", 1);
+    V4l2Options o = zeroCopy(options());
+    o.zeroCopy = false;
+    V4l2Source source(o);
+    EXPECT_EQ(source.bufferCount(), 8u);
+    EXPECT_EQ(source.buffersExported(), 0u);
+    Frame frame;
+    ASSERT_TRUE(source.next(frame));
+    EXPECT_FALSE(frame.ycbcr.buffer);
+    EXPECT_EQ(frame.ycbcr.plane0.size(), size_t(640 * 480));
+    convertRawPlanes(frame);
+    EXPECT_LE(worstBarError(frame, false), 2);
 }
 
 TEST_F(V4l2SourceTest, MissingDeviceIsARuntimeError)

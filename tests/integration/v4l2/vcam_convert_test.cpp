@@ -1,6 +1,7 @@
 // `lumar render` from the virtual camera with camera.convert = "gpu" (the renderer converts
-// the NV12/YUYV planes) and "cpu" (the capture thread converts): the same picture within one
-// code value, for both layouts and both matrices and ranges the driver can report.
+// the NV12/YUYV planes, read in place from the driver's lent buffers) and "cpu" (the capture
+// thread converts): the same picture within one code value, for both layouts and both
+// matrices and ranges the driver can report.
 #include <cstdlib>
 #include <string>
 
@@ -58,7 +59,12 @@ TEST_P(VcamConvert, GpuConversionMatchesCpuConversion)
     const std::string name = std::string("vcam_convert_") + v.format + v.encoding + v.quantization;
     const auto gpuDir = test::scratchDirectory(name + "_gpu");
     const auto cpuDir = test::scratchDirectory(name + "_cpu");
-    EXPECT_NE(render(v, "gpu", gpuDir).find("converted on the GPU"), std::string::npos);
+    const std::string gpuLog = render(v, "gpu", gpuDir);
+    EXPECT_NE(gpuLog.find("converted on the GPU"), std::string::npos);
+    // zero_copy = "auto" (the default): the frames borrow the driver's buffers, which the
+    // renderer uploads in place here (llvmpipe cannot import dmabufs).
+    EXPECT_NE(gpuLog.find("buffers lent to the renderer (zero-copy), exported as dmabufs"), std::string::npos)
+        << gpuLog;
     EXPECT_EQ(render(v, "cpu", cpuDir).find("converted on the GPU"), std::string::npos);
 
     // The bars above the moving block are the same in every frame, so a frame the camera

@@ -65,6 +65,7 @@ TEST_F(ConfigTest, ShippedExampleEqualsTheBuiltInDefault)
     EXPECT_EQ(a.camera.seed, b.camera.seed);
     EXPECT_EQ(a.camera.noiseSigma, b.camera.noiseSigma);
     EXPECT_EQ(a.camera.format, b.camera.format);
+    EXPECT_EQ(a.camera.zeroCopy, b.camera.zeroCopy);
     EXPECT_TRUE(a.camera.controls.empty());
     EXPECT_TRUE(b.camera.controls.empty());
     EXPECT_EQ(fs::weakly_canonical(a.camera.calibration), fs::weakly_canonical(b.camera.calibration));
@@ -92,7 +93,32 @@ TEST_F(ConfigTest, ShippedExampleEqualsTheBuiltInDefault)
     EXPECT_EQ(fs::weakly_canonical(a.environment.hdr), fs::weakly_canonical(b.environment.hdr));
     EXPECT_EQ(a.environment.intensity, b.environment.intensity);
     EXPECT_EQ(a.output.sink, b.output.sink);
+    EXPECT_EQ(a.output.drmDevice, b.output.drmDevice);
+    EXPECT_EQ(a.output.connector, b.output.connector);
+    EXPECT_EQ(a.output.plane, b.output.plane);
+    EXPECT_EQ(a.output.mode, b.output.mode);
     EXPECT_EQ(a.output.path, b.output.path);
+}
+
+TEST_F(ConfigTest, KmsSinkKeys)
+{
+    const Config c = parse("[output]\nsink = \"kms\"\ndrm_device = \"/dev/dri/card1\"\nconnector = \"HDMI-A-1\"\n"
+                           "plane = \"overlay\"\nmode = \"1920x1080\"\n");
+    EXPECT_EQ(c.output.sink, "kms");
+    EXPECT_EQ(c.output.drmDevice, "/dev/dri/card1");
+    EXPECT_EQ(c.output.connector, "HDMI-A-1");
+    EXPECT_EQ(c.output.plane, "overlay");
+    EXPECT_EQ(c.output.mode, "1920x1080");
+    const Config d = parse("[output]\nsink = \"kms\"\n");
+    EXPECT_EQ(d.output.drmDevice, "auto");
+    EXPECT_EQ(d.output.connector, "");
+    EXPECT_EQ(d.output.plane, "auto");
+    EXPECT_EQ(d.output.mode, "auto");
+    expectError("[output]\nmode = \"1920\"\n", "test.toml:2: output.mode: expected \"auto\" or WIDTHxHEIGHT");
+    expectError("[output]\nmode = \"1920x1080p\"\n", "test.toml:2: output.mode:");
+    expectError("[output]\nmode = \"0x1080\"\n", "test.toml:2: output.mode:");
+    expectError("[output]\nplane = \"cursor\"\n", "test.toml:2: output.plane:");
+    expectError("[output]\ndrm_device = \"card0\"\n", "test.toml:2: output.drm_device:");
 }
 
 TEST_F(ConfigTest, FullFileReadsEveryField)
@@ -298,6 +324,9 @@ TEST_F(ConfigTest, CameraFormatAndControls)
     EXPECT_FALSE(d.camera.controls.powerLineHz.has_value());
 
     expectError("[camera]\nformat = \"rgb24\"\n", "test.toml:2: camera.format:");
+    EXPECT_EQ(d.camera.zeroCopy, "auto");
+    EXPECT_EQ(parse("[camera]\nzero_copy = \"off\"\n").camera.zeroCopy, "off");
+    expectError("[camera]\nzero_copy = \"on\"\n", "test.toml:2: camera.zero_copy:");
     expectError("[camera.controls]\nexposure_us = \"manual\"\n", "test.toml:2: camera.controls.exposure_us:");
     expectError("[camera.controls]\nexposure_us = 0\n", "test.toml:2: camera.controls.exposure_us: 0 is outside");
     expectError("[camera.controls]\nexposure_us = 1.5\n",

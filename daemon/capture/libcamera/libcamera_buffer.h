@@ -1,0 +1,34 @@
+// One libcamera frame buffer as a CameraBuffer (core/ycbcr_image.h) frames can be lent: it
+// owns the buffer's mapping and duplicates of its dmabufs, so a frame keeps the memory valid
+// even after the source, its allocator and its FrameBuffer are gone, and describes the NV12
+// (one plane or two) or YUYV planes in both. libcamera's pixel formats are DRM fourccs, so
+// the layout's format is the buffer's DRM format as it is.
+#pragma once
+
+#include <vector>
+
+#include "capture/libcamera/dmabuf_mapping.h"
+#include "capture/libcamera/libcamera_frame.h"
+#include "core/unique_fd.h"
+#include "core/ycbcr_image.h"
+
+namespace libcamera {
+class FrameBuffer;
+}
+
+namespace lumar {
+
+class LibcameraBuffer final : public CameraBuffer {
+public:
+    // `mapping` is of `buffer` and holds a whole image of `layout` (checkMappedImage). Throws
+    // RuntimeError when a dmabuf cannot be duplicated.
+    LibcameraBuffer(const libcamera::FrameBuffer& buffer, DmabufMapping mapping, const LibcameraLayout& layout);
+
+    [[nodiscard]] const DmabufMapping& mapping() const { return mapping_; }
+
+private:
+    DmabufMapping mapping_;
+    std::vector<UniqueFd> dmabufs_; // one per distinct dmabuf of the buffer
+};
+
+} // namespace lumar
