@@ -141,6 +141,8 @@ public:
         glBlitFramebuffer(0, 0, width_, height_, x, y + h, x + w, y, GL_COLOR_BUFFER_BIT,
                           w == width_ && h == height_ ? GL_NEAREST : GL_LINEAR);
         checkGlError("copying the frame into the window");
+        if (window.finishBeforeSwap())
+            glFinish();
         const EGLDisplay display = eglGetCurrentDisplay();
         if (!eglSwapBuffers(display, window.surface()))
             throw RuntimeError("eglSwapBuffers failed on the display's window surface");

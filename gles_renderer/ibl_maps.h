@@ -25,6 +25,9 @@ struct IblSettings {
     int cascadeSamples = 36;    // lobe samples per glossy-1 texel (from glossy-2, already smooth)
     // Store the maps as RGBA8 RGBM even where float targets exist (tests of the fallback).
     bool forceRgbm = false;
+    // Render float targets as RGBA16F only, even where RGBA32F is advertised (the board
+    // quirk half-float-only: stacks whose RGBA32F render targets are broken or slow).
+    bool halfFloatOnly = false;
     float glossy1Exponent = 8.0f;
     float glossy2Exponent = 64.0f;
 };

@@ -105,9 +105,10 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // Core GLES 3.0 renders to no float format. EXT_color_buffer_float adds RGBA16F and
     // RGBA32F (the SH sums then keep full precision); EXT_color_buffer_half_float RGBA16F
     // alone, enough for radiance and for sums of 64 samples (11-bit mantissa: ~0.05 %).
-    if (hasGlExtension("GL_EXT_color_buffer_float")) {
+    const bool fullFloat = hasGlExtension("GL_EXT_color_buffer_float");
+    if (fullFloat && !settings_.halfFloatOnly) {
         sumFormat_ = GL_RGBA32F;
-    } else if (hasGlExtension("GL_EXT_color_buffer_half_float")) {
+    } else if (fullFloat || hasGlExtension("GL_EXT_color_buffer_half_float")) {
         sumFormat_ = GL_RGBA16F;
     } else {
         rgbm_ = true;
@@ -229,7 +230,8 @@ IblMaps IblPipeline::createMaps() const
     maps.mirrorLevels = mirrorLevels_;
     maps.mirror = makeCube(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
     // RGBM: the CPU writes the coefficients, sampling a float texture needs no extension.
-    maps.coefficients = makeFloatTexture(1, 9, nullptr, rgbm_ ? GL_RGBA32F : sumFormat_);
+    maps.coefficients =
+        makeFloatTexture(1, 9, nullptr, rgbm_ ? (settings_.halfFloatOnly ? GL_RGBA16F : GL_RGBA32F) : sumFormat_);
     maps.diffuse = makeCube(settings_.diffuseSize, 1, rgbm_);
     maps.glossy1 = makeCube(settings_.glossy1Size, 1, rgbm_);
     maps.glossy2 = makeCube(settings_.glossy2Size, 1, rgbm_);

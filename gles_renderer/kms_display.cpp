@@ -21,13 +21,16 @@ std::unique_ptr<KmsDisplay> KmsDisplay::open(const KmsDisplayOptions& options, s
         if (!device)
             return nullptr;
     }
+    if (options.legacyApi)
+        device->useLegacyApi();
     return std::unique_ptr<KmsDisplay>(new KmsDisplay(std::move(*device), options));
 }
 
 KmsDisplay::KmsDisplay(DrmDevice device, const KmsDisplayOptions& options)
     : drm_(std::move(device)), output_(std::make_unique<KmsOutput>(drm_, options.output)), gbm_(drm_.fd()),
       gbmSurface_(gbm_, output_->width(), output_->height(), output_->format()),
-      eglDisplay_(EglDisplay::gbm(gbm_.handle())), modifiers_(options.modifiers)
+      eglDisplay_(EglDisplay::gbm(gbm_.handle())), modifiers_(options.modifiers),
+      finishBeforeFlip_(options.finishBeforeFlip)
 {
     eglSurface_.emplace(eglDisplay_, gbmSurface_.handle(), output_->format());
     LUMAR_LOG(Output, Info) << "KMS output: " << drm_.path().string() << " " << output_->describe();

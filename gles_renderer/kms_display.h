@@ -22,7 +22,12 @@ struct KmsDisplayOptions {
     std::string device = "auto";      // a /dev/dri/card* path, or "auto": by `drivers`
     std::vector<std::string> drivers; // drmGetVersion names in preference order; empty: any
     KmsPreferences output;
-    bool modifiers = true; // false: framebuffers without format modifiers (linear)
+    bool modifiers = true;  // false: framebuffers without format modifiers (linear)
+    bool legacyApi = false; // true: SetCrtc + PageFlip even where the driver has atomic
+    // The commits carry no in-fence: the kernel waits for rendering through the buffer's
+    // implicit fences. true (board quirk no-native-fence): glFinish before each flip instead,
+    // for stacks without implicit sync.
+    bool finishBeforeFlip = false;
 };
 
 class KmsDisplay final : public WindowTarget {
@@ -40,6 +45,7 @@ public:
     [[nodiscard]] EGLSurface surface() const override { return eglSurface_->handle(); }
     [[nodiscard]] int width() const override { return output_->width(); }
     [[nodiscard]] int height() const override { return output_->height(); }
+    [[nodiscard]] bool finishBeforeSwap() const override { return finishBeforeFlip_; }
     void showSwapped() override;
 
     [[nodiscard]] std::string describe() const { return output_->describe(); }
@@ -60,6 +66,7 @@ private:
     LockedBuffer shown_;  // on screen
     LockedBuffer queued_; // committed, on screen from the next flip
     bool modifiers_ = true;
+    bool finishBeforeFlip_ = false;
     uint64_t framesShown_ = 0;
 };
 

@@ -18,6 +18,9 @@ public:
     [[nodiscard]] virtual EGLSurface surface() const = 0;
     [[nodiscard]] virtual int width() const = 0;
     [[nodiscard]] virtual int height() const = 0;
+    // True when rendering must be finished (glFinish) before the swap: the display cannot wait
+    // for the GPU itself (no implicit sync of the scan-out buffer, no native fence FD).
+    [[nodiscard]] virtual bool finishBeforeSwap() const { return false; }
     // Called after eglSwapBuffers: shows the new front buffer. Throws RuntimeError.
     virtual void showSwapped() = 0;
 };

@@ -13,6 +13,7 @@ KmsDisplayOptions kmsDisplayOptions(const Config& config)
         options.output.connector = display.connector;
         options.output.plane = display.plane;
         options.modifiers = display.modifiers;
+        options.finishBeforeFlip = config.board->hasQuirk("no-native-fence");
     }
     const OutputConfig& output = config.output;
     options.device = output.drmDevice;
@@ -21,6 +22,7 @@ KmsDisplayOptions kmsDisplayOptions(const Config& config)
     if (output.plane != "auto")
         options.output.plane = output.plane;
     options.output.mode = output.mode;
+    options.legacyApi = output.kmsApi == "legacy";
     return options;
 }
 

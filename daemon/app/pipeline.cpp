@@ -102,26 +102,20 @@ std::vector<GltfModel> loadObjectModels(const Config& config)
     return models;
 }
 
-RenderOptions renderOptionsFor(const RenderingConfig& rendering)
+bool boardHasQuirk(const Config& config, std::string_view quirk)
 {
-    RenderOptions options;
-    EnvironmentMapOptions& maps = options.environmentMaps;
-    maps.dynamic = rendering.environmentMaps != "off";
-    maps.policy = rendering.environmentMaps == "every_k"     ? EnvironmentMapPolicy::EveryKFrames
-                  : rendering.environmentMaps == "budget"    ? EnvironmentMapPolicy::Budget
-                  : rendering.environmentMaps == "on_change" ? EnvironmentMapPolicy::OnChange
-                                                             : EnvironmentMapPolicy::EveryFrame;
-    maps.everyK = rendering.environmentMapEvery;
-    maps.budgetMs = rendering.environmentMapBudgetMs;
-    maps.ibl.mirrorSize = rendering.environmentMapSize;
-    return options;
+    return config.board && config.board->hasQuirk(quirk);
 }
 
 // camera.convert = "auto": YCbCr to RGB on the GPU unless the GLES implementation is a
 // software rasteriser, where the full-screen conversion pass costs more (measured on
 // llvmpipe, 2 cores: 30 -> 25 fps) than the CPU conversion it saves.
-CameraConfig withConversionDecided(CameraConfig camera)
+CameraConfig withConversionDecided(CameraConfig camera, const Config& config)
 {
+    if (boardHasQuirk(config, "no-dma-buf-import") && camera.zeroCopy != "off") {
+        LUMAR_LOG(App, Info) << "board " << config.board->name << ": no dma-buf import, camera frames are uploaded";
+        camera.zeroCopy = "off";
+    }
     if (camera.convert != "auto" || (camera.source != "v4l2" && camera.source != "libcamera"))
         return camera;
     std::string renderer;
@@ -167,7 +161,7 @@ ImageF loadEnvironment(const EnvironmentConfig& environment)
 std::unique_ptr<SceneRenderer> makeRenderer(const Config& config, int width, int height, bool profile,
                                             const WindowTarget* window)
 {
-    RenderOptions options = renderOptionsFor(config.rendering);
+    RenderOptions options = renderOptionsFor(config);
     options.profile = profile;
     if (window)
         options.display = window->eglDisplay();
@@ -193,11 +187,32 @@ bool sameRendererSetup(const Config& running, const Config& next)
 
 } // namespace
 
+// The board's GL quirks (board/README.md) decide what the configuration leaves open.
+RenderOptions renderOptionsFor(const Config& config)
+{
+    const RenderingConfig& rendering = config.rendering;
+    RenderOptions options;
+    EnvironmentMapOptions& maps = options.environmentMaps;
+    std::string schedule = rendering.environmentMaps;
+    if (schedule == "auto")
+        schedule = boardHasQuirk(config, "software-renderer") ? "budget" : "every_frame";
+    maps.dynamic = schedule != "off";
+    maps.policy = schedule == "every_k"     ? EnvironmentMapPolicy::EveryKFrames
+                  : schedule == "budget"    ? EnvironmentMapPolicy::Budget
+                  : schedule == "on_change" ? EnvironmentMapPolicy::OnChange
+                                            : EnvironmentMapPolicy::EveryFrame;
+    maps.ibl.halfFloatOnly = boardHasQuirk(config, "half-float-only");
+    maps.everyK = rendering.environmentMapEvery;
+    maps.budgetMs = rendering.environmentMapBudgetMs;
+    maps.ibl.mirrorSize = rendering.environmentMapSize;
+    return options;
+}
+
 Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
     : config_(config), profile_(profile), window_(window)
 {
     filterSettings_ = filterSettingsFor(config_.tracking);
-    capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(withConversionDecided(config_.camera)));
+    capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(withConversionDecided(config_.camera, config_)));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = makeTracker(config_, intrinsics_);
 

@@ -43,6 +43,10 @@ struct FrameReport {
     StageTimes times;
 };
 
+// The renderer's options for `config`: its [rendering] with the board's GL quirks deciding
+// what it leaves open (environment_maps = "auto", half-float-only).
+RenderOptions renderOptionsFor(const Config& config);
+
 class Pipeline {
 public:
     // Opens the camera, loads calibration, models and environment, creates the GL context.

@@ -353,7 +353,8 @@ void readRendering(TableReader& root, RenderingConfig& rendering, const Context&
     if (!table)
         return;
     TableReader r(*table, "rendering", ctx.fileName);
-    r.oneOf("environment_maps", rendering.environmentMaps, {"every_frame", "every_k", "budget", "on_change", "off"});
+    r.oneOf("environment_maps", rendering.environmentMaps,
+            {"auto", "every_frame", "every_k", "budget", "on_change", "off"});
     r.integer("environment_map_every", rendering.environmentMapEvery, 1, 1000);
     r.number("environment_map_budget_ms", rendering.environmentMapBudgetMs, 0.0, 1000.0, true);
     r.integer("environment_map_size", rendering.environmentMapSize, 16, 256);
@@ -377,6 +378,7 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     r.string("connector", output.connector);
     r.oneOf("plane", output.plane, {"auto", "primary", "overlay"});
     r.string("mode", output.mode);
+    r.oneOf("kms_api", output.kmsApi, {"auto", "legacy"});
     int modeWidth = 0, modeHeight = 0;
     char tail = 0;
     if (output.mode != "auto" && (std::sscanf(output.mode.c_str(), "%dx%d%c", &modeWidth, &modeHeight, &tail) != 2 ||

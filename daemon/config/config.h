@@ -136,10 +136,11 @@ struct PhantomConfig {
 
 // The paper's per-object environment maps (DESIGN.md §6.1).
 struct RenderingConfig {
-    std::string environmentMaps = "every_frame"; // every_frame | every_k | budget | on_change | off
-    int environmentMapEvery = 2;                 // every_k: each object every k-th frame
-    double environmentMapBudgetMs = 8.0;         // budget: milliseconds per frame
-    int environmentMapSize = 64;                 // px per cube face, a power of two 16..256
+    // auto: every_frame, or budget on a board with the software-renderer GL quirk
+    std::string environmentMaps = "auto"; // auto | every_frame | every_k | budget | on_change | off
+    int environmentMapEvery = 2;          // every_k: each object every k-th frame
+    double environmentMapBudgetMs = 8.0;  // budget: milliseconds per frame
+    int environmentMapSize = 64;          // px per cube face, a power of two 16..256
     bool operator==(const RenderingConfig&) const = default;
 };
 
@@ -150,6 +151,7 @@ struct OutputConfig {
     std::string connector;            // e.g. "HDMI-A-1"; empty: the board's, else the first connected
     std::string plane = "auto";       // "auto" (the board's) | "primary" | "overlay"
     std::string mode = "auto";        // "auto" (the connector's preferred) or "WIDTHxHEIGHT"
+    std::string kmsApi = "auto";      // "auto" (atomic where the driver has it) | "legacy"
     std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file (kms: the fallback)
     std::filesystem::path statusPath; // `lumar run` state as JSON, e.g. /run/lumar/status.json
     bool operator==(const OutputConfig&) const = default;

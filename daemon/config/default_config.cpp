@@ -60,7 +60,7 @@ hdr = "env/venice_sunset_1k.hdr"
 intensity = 1.0
 
 [rendering]
-environment_maps = "every_frame"
+environment_maps = "auto"
 environment_map_every = 2
 environment_map_budget_ms = 8.0
 environment_map_size = 64

@@ -86,15 +86,21 @@ present() { # NAME CONFIG FRAMES
 }
 
 if [ "$(cat kms)" = 1 ]; then
+  # vivid's YCbCr frames converted in the renderer (zero-copy where EGL imports vivid's
+  # dmabufs), shown through atomic commits.
   cat >/tmp/kms-bars.toml <<'EOF'
 board = "qemu-virtual-board"
+[camera]
+convert = "gpu"
 [output]
 sink = "kms"
 status_path = "/tmp/status.json"
 EOF
   present kms-bars /tmp/kms-bars.toml 10
-  # The tag scene: the same folder and model, so the configuration stays next to them.
-  { cat tags.toml; printf '\n[output]\nsink = "kms"\nstatus_path = "/tmp/status.json"\n'; } >tags-kms.toml
+  # The tag scene: the same folder and model, so the configuration stays next to them. Shown
+  # through the legacy KMS API (SetCrtc + PageFlip), the atomic path's fallback.
+  { cat tags.toml; printf '\n[output]\nsink = "kms"\nkms_api = "legacy"\nstatus_path = "/tmp/status.json"\n'; } >tags-kms.toml
   present kms-tags tags-kms.toml 10
+  grep -h 'KMS output\|dma-buf\|dmabuf\|zero-copy\|import' kms-bars.log kms-tags.log | sed 's/^/kms| /'
 fi
 exit "$status"

@@ -20,6 +20,7 @@ TEST(KmsSink, BoardPreferencesUnderOutputOverrides)
     EXPECT_EQ(options.output.plane, "primary");
     EXPECT_EQ(options.output.mode, "auto");
     EXPECT_FALSE(options.modifiers);
+    EXPECT_TRUE(options.finishBeforeFlip); // the board's no-native-fence quirk
 
     config = parseConfig("board = \"qemu-virtual-board\"\n[output]\nsink = \"kms\"\ndrm_device = \"/dev/dri/card1\"\n"
                          "connector = \"Virtual-2\"\nplane = \"overlay\"\nmode = \"800x600\"\n",
@@ -29,6 +30,8 @@ TEST(KmsSink, BoardPreferencesUnderOutputOverrides)
     EXPECT_EQ(options.output.connector, "Virtual-2");
     EXPECT_EQ(options.output.plane, "overlay");
     EXPECT_EQ(options.output.mode, "800x600");
+    EXPECT_FALSE(options.legacyApi);
+    EXPECT_TRUE(kmsDisplayOptions(parseConfig("[output]\nkms_api = \"legacy\"\n", "test.toml", ".")).legacyApi);
     EXPECT_FALSE(options.modifiers); // the board's, no [output] key for it
 }
 
@@ -39,6 +42,7 @@ TEST(KmsSink, WithoutABoardAnyDriverAndModifiers)
     EXPECT_EQ(options.output.connector, "auto");
     EXPECT_EQ(options.output.plane, "primary");
     EXPECT_TRUE(options.modifiers);
+    EXPECT_FALSE(options.finishBeforeFlip);
 }
 
 TEST(KmsSink, NoDrmDeviceFallsBack)

@@ -97,6 +97,7 @@ TEST_F(ConfigTest, ShippedExampleEqualsTheBuiltInDefault)
     EXPECT_EQ(a.output.connector, b.output.connector);
     EXPECT_EQ(a.output.plane, b.output.plane);
     EXPECT_EQ(a.output.mode, b.output.mode);
+    EXPECT_EQ(a.output.kmsApi, b.output.kmsApi);
     EXPECT_EQ(a.output.path, b.output.path);
 }
 
@@ -118,6 +119,7 @@ TEST_F(ConfigTest, KmsSinkKeys)
     expectError("[output]\nmode = \"1920x1080p\"\n", "test.toml:2: output.mode:");
     expectError("[output]\nmode = \"0x1080\"\n", "test.toml:2: output.mode:");
     expectError("[output]\nplane = \"cursor\"\n", "test.toml:2: output.plane:");
+    expectError("[output]\nkms_api = \"fbdev\"\n", "test.toml:2: output.kms_api:");
     expectError("[output]\ndrm_device = \"card0\"\n", "test.toml:2: output.drm_device:");
 }
 

@@ -22,7 +22,7 @@ const std::string kMarker = "[[markers]]\nid = 0\nsize = 0.16\n";
 TEST_F(SceneConfigTest, RenderingDefaultsAndValues)
 {
     const Config defaults = parse("");
-    EXPECT_EQ(defaults.rendering.environmentMaps, "every_frame");
+    EXPECT_EQ(defaults.rendering.environmentMaps, "auto");
     EXPECT_EQ(defaults.rendering.environmentMapSize, 64);
     const Config c = parse("[rendering]\nenvironment_maps = \"budget\"\nenvironment_map_every = 3\n"
                            "environment_map_budget_ms = 5.5\nenvironment_map_size = 128\n");
