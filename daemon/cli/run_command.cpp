@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "capture/reconnecting_source.h"
 #include "command_line.h"
@@ -252,6 +253,13 @@ int runCommand(const Args& args)
     long frames = 0, framesInWindow = 0, withMarker = 0, windows = 0;
     RunStatus status;
     FrameReport report;
+    bool cameraDown = false; // since a CameraUnavailable, until the next frame
+    auto statusLine = [&] {
+        char line[160];
+        std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", status.fps,
+                      withMarker, frames, report.objectsDrawn);
+        return std::string(line);
+    };
     LUMAR_LOG(App, Info) << "running at " << scene->pipeline->fps() << " fps; SIGINT or SIGTERM stops, SIGHUP reloads";
 
     while (!gStopRequested.load() && (maxFrames == 0 || frames < maxFrames)) {
@@ -273,6 +281,10 @@ int runCommand(const Args& args)
             // frame stays on the output meanwhile.
             notifier.status(std::string("camera unavailable: ") + e.what());
             status.camera = std::string("unavailable: ") + e.what();
+            // No frame comes, so neither does the periodic rewrite below: say it now.
+            status.uptimeS = std::chrono::duration<double>(Clock::now() - started).count();
+            scene->statusFile.write(status);
+            cameraDown = true;
             continue;
         }
         ++frames;
@@ -293,6 +305,12 @@ int runCommand(const Args& args)
                                  << (sinceProcessStart ? "process started" : "command started");
         }
         notifier.frameDone(now);
+        if (std::exchange(cameraDown, false)) {
+            // Back: both reports lose the "unavailable" at once, not at the next window.
+            status.uptimeS = std::chrono::duration<double>(now - started).count();
+            scene->statusFile.write(status);
+            notifier.status(statusLine());
+        }
         if (now - windowStart >= std::chrono::seconds(1)) {
             status.fps = double(framesInWindow) / std::chrono::duration<double>(now - windowStart).count();
             status.frames = frames;
@@ -304,9 +322,7 @@ int runCommand(const Args& args)
             status.uptimeS = std::chrono::duration<double>(now - started).count();
             scene->statusFile.write(status);
             if (++windows % 5 == 0) {
-                char line[160];
-                std::snprintf(line, sizeof line, "%.1f fps, markers in %ld/%ld frames, %d object(s) drawn", status.fps,
-                              withMarker, frames, report.objectsDrawn);
+                const std::string line = statusLine();
                 LUMAR_LOG(App, Info) << "status: " << line;
                 notifier.status(line);
             }
