@@ -7,10 +7,20 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
 namespace lumar {
+
+// Copies `rows` rows of `rowBytes` from `data` (rows `stride` bytes apart) into `plane`,
+// tightly packed: a camera buffer's padding dropped.
+inline void copyPlaneRows(const uint8_t* data, size_t stride, size_t rowBytes, int rows, std::vector<uint8_t>& plane)
+{
+    plane.resize(rowBytes * size_t(rows));
+    for (int row = 0; row < rows; ++row)
+        std::memcpy(plane.data() + rowBytes * size_t(row), data + stride * size_t(row), rowBytes);
+}
 
 enum class YCbCrMatrix { Bt601, Bt709 };
 

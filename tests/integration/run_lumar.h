@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -57,6 +59,33 @@ inline ProcessResult runLumar(const std::vector<std::string>& args, const std::f
 }
 
 // A fresh, empty directory for one test.
+// Starts lumar (LUMAR_BINARY) with stdout/stderr redirected to `log` and `extraEnvironment`
+// ("NAME=value") added to this process' environment; returns its pid, -1 when it could not.
+inline pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log,
+                        std::vector<std::string> extraEnvironment = {})
+{
+    std::vector<char*> envp;
+    for (char** e = environ; *e; ++e)
+        envp.push_back(*e);
+    for (auto& e : extraEnvironment)
+        envp.push_back(e.data());
+    envp.push_back(nullptr);
+    std::vector<std::string> argv{LUMAR_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (auto& a : argv)
+        cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, LUMAR_BINARY, &actions, nullptr, cargv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    return rc == 0 ? pid : -1;
+}
+
 inline std::filesystem::path scratchDirectory(const std::string& name)
 {
     const auto dir = std::filesystem::temp_directory_path() / ("lumar-test-" + name + "-" + std::to_string(::getpid()));

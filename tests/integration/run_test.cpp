@@ -23,33 +23,6 @@ namespace {
 constexpr int kWidth = 320, kHeight = 240;
 constexpr size_t kY4mFrameBytes = 6 + size_t(kWidth) * kHeight * 3 / 2; // "FRAME\n" + 4:2:0 planes
 
-// Starts lumar with stdout/stderr redirected to a file and `extraEnvironment` ("NAME=value")
-// added; returns its pid.
-pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log,
-                 std::vector<std::string> extraEnvironment = {})
-{
-    std::vector<char*> envp;
-    for (char** e = environ; *e; ++e)
-        envp.push_back(*e);
-    for (auto& e : extraEnvironment)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
-    std::vector<std::string> argv{LUMAR_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv)
-        cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, LUMAR_BINARY, &actions, nullptr, cargv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    return rc == 0 ? pid : -1;
-}
-
 size_t fileSize(const std::filesystem::path& p)
 {
     std::error_code ec;
@@ -66,7 +39,7 @@ TEST_P(RunCommand, StopsCleanlyOnSignalWithCompleteOutput)
     const auto video = dir / "live.y4m";
     std::ofstream(dir / "scene.toml") << "[camera]\nwidth = " << kWidth << "\nheight = " << kHeight
                                       << "\n[output]\npath = \"live.y4m\"\n";
-    const pid_t pid = spawnLumar({"run", "--config", (dir / "scene.toml").string()}, dir / "log.txt");
+    const pid_t pid = test::spawnLumar({"run", "--config", (dir / "scene.toml").string()}, dir / "log.txt");
     ASSERT_GT(pid, 0);
 
     // Wait for a few frames to be written (the daemon paces itself at 30 fps).
@@ -142,7 +115,7 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     std::ofstream(config) << sceneWritingTo("a.y4m");
     // The unit runs lumar with UMask=0077: the status file must stay readable by others.
     const mode_t previousMask = ::umask(077);
-    const pid_t pid = spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    const pid_t pid = test::spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
     ::umask(previousMask);
     ASSERT_GT(pid, 0);
     ASSERT_TRUE(waitForFrames(dir / "a.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
@@ -222,7 +195,7 @@ TEST(RunReload, AModelChangeKeepsTheCameraAndGlContextAndShowsTheNewScene)
     const std::string cube = "[[objects]]\nname = \"box\"\nmodel = \"builtin:cube\"\nmarker = 0\n"
                              "offset = [0.1, 0.0, 0.0]\nsize = 0.05\n";
     std::ofstream(config) << sceneWritingTo("a.y4m", "", marker + sphere);
-    const pid_t pid = spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    const pid_t pid = test::spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
     ASSERT_GT(pid, 0);
     auto json = waitForStatus(dir / "status.json", "objects_drawn", 1, std::chrono::seconds(60));
     ASSERT_EQ(json["objects_drawn"], 1) << json.dump() << test::readText(dir / "log.txt");
@@ -264,8 +237,8 @@ TEST(RunNotify, ReadyAfterTheFirstFrameThenWatchdogAndStatus)
     ::setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
 
     std::ofstream(dir / "scene.toml") << sceneWritingTo("live.y4m");
-    const pid_t pid = spawnLumar({"run", "--config", (dir / "scene.toml").string()}, dir / "log.txt",
-                                 {"NOTIFY_SOCKET=" + socketPath.string(), "WATCHDOG_USEC=200000"});
+    const pid_t pid = test::spawnLumar({"run", "--config", (dir / "scene.toml").string()}, dir / "log.txt",
+                                       {"NOTIFY_SOCKET=" + socketPath.string(), "WATCHDOG_USEC=200000"});
     ASSERT_GT(pid, 0);
 
     std::vector<std::string> messages;

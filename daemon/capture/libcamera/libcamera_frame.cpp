@@ -125,18 +125,6 @@ void convertLibcameraImage(const DmabufMapping& mapping, const LibcameraLayout& 
     }
 }
 
-namespace {
-
-// Copies `rows` rows of `rowBytes` into `plane`, tightly packed (the stride's padding dropped).
-void copyPlane(const uint8_t* data, size_t stride, size_t rowBytes, int rows, std::vector<uint8_t>& plane)
-{
-    plane.resize(rowBytes * size_t(rows));
-    for (int row = 0; row < rows; ++row)
-        std::memcpy(plane.data() + rowBytes * size_t(row), data + stride * size_t(row), rowBytes);
-}
-
-} // namespace
-
 void keepLibcameraPlanes(const DmabufMapping& mapping, const LibcameraLayout& layout, const YCbCrConverter& converter,
                          Frame& frame)
 {
@@ -147,13 +135,13 @@ void keepLibcameraPlanes(const DmabufMapping& mapping, const LibcameraLayout& la
     const size_t width = size_t(layout.width);
     if (layout.format == libcamera::formats::NV12) {
         raw.layout = YCbCrLayout::Nv12;
-        copyPlane(mapping.plane(0), layout.stride, width, layout.height, raw.plane0);
-        copyPlane(nv12Chroma(mapping, layout).data, layout.stride, width, layout.height / 2, raw.plane1);
+        copyPlaneRows(mapping.plane(0), layout.stride, width, layout.height, raw.plane0);
+        copyPlaneRows(nv12Chroma(mapping, layout).data, layout.stride, width, layout.height / 2, raw.plane1);
         raw.stride0 = raw.stride1 = width;
         converter.convertLuma(mapping.plane(0), layout.stride, 1, layout.width, layout.height, frame.luma);
     } else {
         raw.layout = YCbCrLayout::Yuyv;
-        copyPlane(mapping.plane(0), layout.stride, width * 2, layout.height, raw.plane0);
+        copyPlaneRows(mapping.plane(0), layout.stride, width * 2, layout.height, raw.plane0);
         raw.plane1.clear();
         raw.stride0 = width * 2;
         raw.stride1 = 0;

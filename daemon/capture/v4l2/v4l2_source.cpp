@@ -453,18 +453,6 @@ bool V4l2Source::next(Frame& frame)
     return true;
 }
 
-namespace {
-
-// Copies `rows` rows of `rowBytes` into `plane`, tightly packed (the driver's padding dropped).
-void copyPlane(const uint8_t* data, size_t stride, size_t rowBytes, int rows, std::vector<uint8_t>& plane)
-{
-    plane.resize(rowBytes * size_t(rows));
-    for (int row = 0; row < rows; ++row)
-        std::memcpy(plane.data() + rowBytes * size_t(row), data + stride * size_t(row), rowBytes);
-}
-
-} // namespace
-
 void V4l2Source::keepRawPlanes(const uint8_t* data, Frame& frame) const
 {
     YCbCrImage& raw = frame.ycbcr;
@@ -474,13 +462,13 @@ void V4l2Source::keepRawPlanes(const uint8_t* data, Frame& frame) const
     const size_t width = size_t(width_);
     if (pixelFormat_ == V4L2_PIX_FMT_NV12) {
         raw.layout = YCbCrLayout::Nv12;
-        copyPlane(data, bytesPerLine_, width, height_, raw.plane0);
-        copyPlane(data + bytesPerLine_ * size_t(height_), bytesPerLine_, width, height_ / 2, raw.plane1);
+        copyPlaneRows(data, bytesPerLine_, width, height_, raw.plane0);
+        copyPlaneRows(data + bytesPerLine_ * size_t(height_), bytesPerLine_, width, height_ / 2, raw.plane1);
         raw.stride0 = raw.stride1 = width;
         converter_.convertLuma(data, bytesPerLine_, 1, width_, height_, frame.luma);
     } else {
         raw.layout = YCbCrLayout::Yuyv;
-        copyPlane(data, bytesPerLine_, width * 2, height_, raw.plane0);
+        copyPlaneRows(data, bytesPerLine_, width * 2, height_, raw.plane0);
         raw.plane1.clear();
         raw.stride0 = width * 2;
         raw.stride1 = 0;

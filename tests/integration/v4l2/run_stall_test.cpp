@@ -101,31 +101,6 @@ private:
     bool bound_ = false;
 };
 
-pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log,
-                 std::vector<std::string> extraEnvironment)
-{
-    std::vector<char*> envp;
-    for (char** e = environ; *e; ++e)
-        envp.push_back(*e);
-    for (auto& e : extraEnvironment)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
-    std::vector<std::string> argv{LUMAR_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv)
-        cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, LUMAR_BINARY, &actions, nullptr, cargv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    return rc == 0 ? pid : -1;
-}
-
 // status.json's "camera", or nothing while the file is missing or being replaced.
 std::optional<std::string> cameraInStatus(const std::filesystem::path& file)
 {
@@ -194,11 +169,11 @@ TEST_F(RunStall, WatchdogStopsWhileTheCameraStallsAndTheStatusSaysSoThenBothReco
                                       << "width = 640\nheight = 480\nfps = 30\ntimeout_ms = " << kTimeoutMs
                                       << "\n[output]\nsink = \"none\"\nstatus_path = \"status.json\"\n";
     const auto started = Clock::now();
-    const pid_t pid =
-        spawnLumar({"run", "--config", (dir / "scene.toml").string()}, log,
-                   {"NOTIFY_SOCKET=" + (dir / "notify.sock").string(), "WATCHDOG_USEC=" + std::to_string(kWatchdogUs),
-                    "LUMAR_VCAM_FAULT_STALL_AT=" + std::to_string(kStallAt),
-                    "LUMAR_VCAM_FAULT_STALL_MS=" + std::to_string(kStallMs)});
+    const pid_t pid = test::spawnLumar({"run", "--config", (dir / "scene.toml").string()}, log,
+                                       {"NOTIFY_SOCKET=" + (dir / "notify.sock").string(),
+                                        "WATCHDOG_USEC=" + std::to_string(kWatchdogUs),
+                                        "LUMAR_VCAM_FAULT_STALL_AT=" + std::to_string(kStallAt),
+                                        "LUMAR_VCAM_FAULT_STALL_MS=" + std::to_string(kStallMs)});
     ASSERT_GT(pid, 0);
 
     // Collect the datagrams and every change of status.json's camera state, until the first
