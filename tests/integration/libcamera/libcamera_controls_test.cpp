@@ -134,8 +134,9 @@ TEST(LibcameraControls, WithoutColourTemperatureAKelvinValueBecomesColourGains)
 
     // 1000 K asks for a blue gain far beyond the camera's 32: clamped into its range.
     config.whiteBalanceK = 1000;
-    const auto extreme =
-        controlsFor(config, raspberry).get(controls::ColourGains.id()).get<libcamera::Span<const float>>();
+    // The span points into the list's value: keep the list alive while it is read.
+    const ControlList extremeList = controlsFor(config, raspberry);
+    const auto extreme = extremeList.get(controls::ColourGains.id()).get<libcamera::Span<const float>>();
     EXPECT_LE(extreme[1], 32.0f);
     EXPECT_GE(extreme[0], 0.0f);
 }
