@@ -138,7 +138,7 @@ fi
 run=$cache/run
 root=$run/root
 # A run killed while the chroot's bind mounts were up must not take /dev with it.
-grep -F " $run/" /proc/mounts | cut -d' ' -f2 | sort -r | while read -r m; do umount "$m" || true; done
+{ grep -F " $run/" /proc/mounts || true; } | cut -d' ' -f2 | sort -r | while read -r m; do umount "$m" || true; done
 grep -qF " $run/" /proc/mounts && die "$run: still mounted inside, not deleting it"
 rm -rf "$run"
 mkdir -p "$root"
@@ -187,7 +187,20 @@ conf=$root/etc/lumar/lumar.toml
 grep -q '^# status_path = "/run/lumar/status.json"' "$conf" || die "$conf: no commented status_path to enable"
 sed -i 's|^# status_path = "/run/lumar/status.json"|status_path = "/run/lumar/status.json"|' "$conf"
 grep -q '^sink = "headless"' "$conf" || die "$conf: the output is not headless"
+# (The status file's directory exists only once systemd made the RuntimeDirectory.)
+mkdir "$root/run/lumar"
 chroot "$root" /usr/bin/lumar check-config /etc/lumar/lumar.toml >/dev/null || die "lumar check-config rejects $conf"
+rmdir "$root/run/lumar"
+
+# Under TCG the guest runs llvmpipe some 30 times slower than a board's CPU: a frame can take
+# longer than the unit's 10 s watchdog and the 90 s start timeout. This VM's own allowance;
+# the unit is otherwise the package's, unchanged.
+mkdir -p "$root/etc/systemd/system/lumar.service.d"
+cat >"$root/etc/systemd/system/lumar.service.d/virtual-board.conf" <<EOF
+[Service]
+WatchdogSec=120s
+TimeoutStartSec=600s
+EOF
 
 # The checks run as a service once the boot is done, on the serial console.
 install -m 755 "$top/tests/system/virtual-board-systemd-guest.sh" "$root/usr/local/sbin/lumar-vbs-check"
@@ -220,7 +233,7 @@ size_mb=$(($(du -sm "$root" | cut -f1) + 512))
 mke2fs -q -t ext4 -L lumar-root -d "$root" "$image" "${size_mb}M"
 initramfs=$run/initramfs.cpio
 iroot=$run/initramfs
-mkdir -p "$iroot"/{usr/bin,usr/sbin,proc,sys,dev,newroot}
+mkdir -p "$iroot"/{usr/bin,usr/sbin,usr/lib,proc,sys,dev,newroot}
 ln -s usr/bin "$iroot/bin"; ln -s usr/sbin "$iroot/sbin"; ln -s usr/lib "$iroot/lib"
 cp "$(command -v busybox)" "$iroot/usr/bin/busybox"
 for applet in $(busybox --list); do

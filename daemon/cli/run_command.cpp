@@ -303,6 +303,8 @@ int runCommand(const Args& args)
             std::snprintf(ms, sizeof ms, "%.0f", *status.startupMs);
             LUMAR_LOG(App, Info) << "first frame presented " << ms << " ms after the "
                                  << (sinceProcessStart ? "process started" : "command started");
+            // systemd shows a status from READY on, not only after the first frame-rate window.
+            notifier.status(std::string("first frame presented after ") + ms + " ms");
         }
         notifier.frameDone(now);
         if (std::exchange(cameraDown, false)) {
