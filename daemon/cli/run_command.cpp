@@ -263,7 +263,11 @@ int runCommand(const Args& args)
     LUMAR_LOG(App, Info) << "running at " << scene->pipeline->fps() << " fps; SIGINT or SIGTERM stops, SIGHUP reloads";
 
     while (!gStopRequested.load() && (maxFrames == 0 || frames < maxFrames)) {
-        if (configFile && (gReloadRequested.exchange(false) || watcher->changed())) {
+        // Both sources are drained every frame: an edit followed by `systemctl reload` within
+        // the same frame reloads once, not twice.
+        const bool hangUp = gReloadRequested.exchange(false);
+        const bool edited = configFile && watcher->changed();
+        if (configFile && (hangUp || edited)) {
             if (reload(*configFile, scene, notifier, status)) {
                 paceStart = Clock::now();
                 paceFrames = 0;
