@@ -107,9 +107,11 @@ bool boardHasQuirk(const Config& config, std::string_view quirk)
     return config.board && config.board->hasQuirk(quirk);
 }
 
-// camera.convert = "auto": YCbCr to RGB on the GPU unless the GLES implementation is a
-// software rasteriser, where the full-screen conversion pass costs more (measured on
-// llvmpipe, 2 cores: 30 -> 25 fps) than the CPU conversion it saves.
+// What the camera is opened with once the board has had its say: no zero-copy on a board
+// with the no-dma-buf-import quirk, and camera.convert = "auto" decided — YCbCr to RGB on the
+// GPU unless the GLES implementation is a software rasteriser, where the full-screen
+// conversion pass costs more (measured on llvmpipe, 2 cores: 30 -> 25 fps) than the CPU
+// conversion it saves.
 CameraConfig withConversionDecided(CameraConfig camera, const Config& config)
 {
     if (boardHasQuirk(config, "no-dma-buf-import") && camera.zeroCopy != "off") {

@@ -11,6 +11,22 @@
 
 namespace lumar {
 
+CameraStreamOptions cameraStreamOptions(const CameraConfig& config)
+{
+    CameraStreamOptions options;
+    options.width = config.width;
+    options.height = config.height;
+    options.fps = config.fps;
+    options.bufferCount = config.buffers;
+    options.frameTimeoutMs = config.timeoutMs;
+    options.controls = config.controls;
+    // The renderer converts NV12/YUYV on the GPU unless the operator asks for the CPU.
+    options.rawYcbcr = config.convert == "gpu";
+    // The frames borrow the camera's buffers (dmabufs for the renderer to import).
+    options.zeroCopy = config.zeroCopy == "auto";
+    return options;
+}
+
 std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
 {
     if (config.source == "fake") {
@@ -24,18 +40,9 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
     }
     if (config.source == "v4l2") {
         V4l2Options options;
+        static_cast<CameraStreamOptions&>(options) = cameraStreamOptions(config);
         options.device = config.device;
-        options.width = config.width;
-        options.height = config.height;
-        options.fps = config.fps;
-        options.bufferCount = config.buffers;
-        options.frameTimeoutMs = config.timeoutMs;
         options.pixelFormat = pixelFormatFromName(config.format);
-        options.controls = config.controls;
-        // The renderer converts NV12/YUYV on the GPU unless the operator asks for the CPU.
-        options.rawYcbcr = config.convert == "gpu";
-        // The frames borrow the driver's buffers (dmabufs for the renderer to import).
-        options.zeroCopy = config.zeroCopy == "auto";
         // The pipeline sizes its renderer and intrinsics once; a resolution change reopens.
         options.followResolutionChanges = false;
         // A camera can be unplugged or hang; it is reopened in place when it comes back.
@@ -44,17 +51,10 @@ std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config)
     }
     if (config.source == "libcamera") {
         LibcameraOptions options;
+        static_cast<CameraStreamOptions&>(options) = cameraStreamOptions(config);
         options.cameraId = config.device;
-        options.width = config.width;
-        options.height = config.height;
-        options.fps = config.fps;
-        options.bufferCount = config.buffers;
-        options.frameTimeoutMs = config.timeoutMs;
         options.format = config.format;
         LibcameraSource::checkFormatName(config.format); // before any camera is opened: bad input
-        options.controls = config.controls;
-        options.rawYcbcr = config.convert == "gpu";
-        options.zeroCopy = config.zeroCopy == "auto";
         // Reopened in place after a disconnect or a hang, like a V4L2 camera.
         return std::make_unique<ReconnectingSource>([options] { return std::make_unique<LibcameraSource>(options); },
                                                     "libcamera");

@@ -39,24 +39,13 @@ namespace lumar {
 class LibcameraBuffer;
 struct LibcameraLayout;
 
-struct LibcameraOptions {
+// fps is asked for through FrameDurationLimits where the camera has it; bufferCount frame
+// buffers (and requests); a lent buffer's request is queued again when no frame holds it.
+struct LibcameraOptions : CameraStreamOptions {
     // A libcamera camera id (as `lumar probe` lists them); anything else, such as the
     // config's default "/dev/video0", selects the first camera.
     std::string cameraId;
-    int width = 1280; // requested; the pipeline's closest size wins
-    int height = 720;
-    double fps = 30.0;           // requested through FrameDurationLimits where the camera has it
-    int bufferCount = 4;         // frame buffers (and requests) asked for
-    int frameTimeoutMs = 2000;   // next() throws when no frame arrives for this long
     std::string format = "auto"; // camera.format: "auto" (NV12, then YUYV), "nv12" or "yuyv"
-    CameraControlsConfig controls;
-    // true: deliver the planes as Frame::ycbcr (plus the tracker's luma) and leave the RGB
-    // conversion to the renderer's GPU; false: convert to Frame::rgb on the CPU.
-    bool rawYcbcr = false;
-    // With rawYcbcr: lend the frame buffers (dmabufs) to the frames instead of copying the
-    // planes out; a lent buffer's request is queued again when no frame holds the buffer.
-    // kLentBuffers more buffers are asked for so the camera keeps enough to fill.
-    bool zeroCopy = false;
 };
 
 class LibcameraSource final : public CaptureSource {

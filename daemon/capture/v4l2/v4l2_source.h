@@ -23,28 +23,16 @@
 
 namespace lumar {
 
-struct V4l2Options {
+// fps is asked for with VIDIOC_S_PARM; bufferCount MMAP buffers (at least 4 are used); MJPEG
+// and GREY frames are always converted here, whatever rawYcbcr says; zero-copy buffers are
+// exported once each as dmabufs (VIDIOC_EXPBUF) and kLentBuffers more are requested.
+struct V4l2Options : CameraStreamOptions {
     std::string device = "/dev/video0";
-    int width = 1280; // requested; the device's closest size wins
-    int height = 720;
-    double fps = 30.0;         // requested frame rate (VIDIOC_S_PARM); the driver may adjust it
-    int bufferCount = 4;       // MMAP buffers requested (at least 4 are used)
-    int frameTimeoutMs = 2000; // next() throws when no frame arrives for this long
-    uint32_t pixelFormat = 0;  // a fourcc the config requires; 0: the best the device offers
-    CameraControlsConfig controls;
+    uint32_t pixelFormat = 0; // a fourcc the config requires; 0: the best the device offers
     // On a source change to another resolution: true, restart at the new size (width() and
     // height() follow, frames come at the new size); false, throw RuntimeError from next()
     // (for callers sized once at start, which reopen the camera instead).
     bool followResolutionChanges = true;
-    // NV12 and YUYV frames: true, deliver the planes as Frame::ycbcr (plus the tracker's
-    // luma) and leave the RGB conversion to the renderer's GPU; false, convert to Frame::rgb
-    // on the CPU. MJPEG and GREY are always converted here.
-    bool rawYcbcr = false;
-    // With rawYcbcr: lend the driver's buffers to the frames (Frame::ycbcr.buffer) instead of
-    // copying the planes out, each exported once as a dmabuf (VIDIOC_EXPBUF) for the
-    // renderer to import; a lent buffer goes back to the driver when no frame holds it.
-    // kLentBuffers more buffers are requested so the driver keeps enough to fill.
-    bool zeroCopy = false;
 };
 
 class V4l2Source final : public CaptureSource {
