@@ -173,9 +173,9 @@ void BackgroundPass::draw(const YCbCrImage& ycbcr)
     }
 }
 
-void BackgroundPass::enableDmabufImport(const EglDisplay& display)
+void BackgroundPass::enableDmabufImport(const EglDisplay& display, DmabufOrigin origin)
 {
-    importer_ = std::make_unique<DmabufImporter>(display);
+    importer_ = std::make_unique<DmabufImporter>(display, origin);
 }
 
 void BackgroundPass::releaseHeldBuffer()

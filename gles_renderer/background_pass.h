@@ -39,9 +39,9 @@ public:
     static constexpr GLuint kChromaTextureUnit = 6;
 
     // Lets zero-copy frames be imported from their dmabufs on `display` (which must outlive
-    // the pass), where it and the current context can; without this call, or where they
-    // cannot, they are uploaded. The context must be current.
-    void enableDmabufImport(const EglDisplay& display);
+    // the pass), where it and the current context can take buffers of `origin`; without this
+    // call, or where they cannot, they are uploaded. The context must be current.
+    void enableDmabufImport(const EglDisplay& display, DmabufOrigin origin = DmabufOrigin::OtherDevice);
     // The importer, for tests and logs; null until enableDmabufImport.
     [[nodiscard]] const DmabufImporter* dmabufImporter() const { return importer_.get(); }
     // Frames drawn from imported dmabufs so far.

@@ -67,7 +67,8 @@ std::vector<EGLint> dmabufImageAttributes(const DmabufPlaneImport& plane, bool l
     return attributes;
 }
 
-std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBase, bool glEglImage)
+std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBase, bool glEglImage,
+                                          std::string_view driverName, DmabufOrigin origin)
 {
     if (!eglDmaBufImport)
         return "the EGL display has no EGL_EXT_image_dma_buf_import";
@@ -75,6 +76,9 @@ std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBas
         return "the EGL display has no EGL_KHR_image_base";
     if (!glEglImage)
         return "the GLES context has no GL_OES_EGL_image";
+    if (driverName == "kms_swrast" && origin == DmabufOrigin::OtherDevice)
+        return "the EGL driver is kms_swrast, which cannot map another device's dmabuf (the kernel refuses "
+               "DRM_IOCTL_MODE_MAP_DUMB for imported buffers)";
     return {};
 }
 
@@ -133,11 +137,11 @@ void GlFence::reset()
     sync_ = nullptr;
 }
 
-DmabufImporter::DmabufImporter(const EglDisplay& display) : display_(display.handle())
+DmabufImporter::DmabufImporter(const EglDisplay& display, DmabufOrigin origin) : display_(display.handle())
 {
-    reason_ =
-        dmabufImportUnavailableReason(display.hasExtension("EGL_EXT_image_dma_buf_import"),
-                                      display.hasExtension("EGL_KHR_image_base"), hasGlExtension("GL_OES_EGL_image"));
+    reason_ = dmabufImportUnavailableReason(display.hasExtension("EGL_EXT_image_dma_buf_import"),
+                                            display.hasExtension("EGL_KHR_image_base"),
+                                            hasGlExtension("GL_OES_EGL_image"), display.driverName(), origin);
     if (reason_.empty()) {
         createImage_ = reinterpret_cast<PFNEGLCREATEIMAGEKHRPROC>(eglGetProcAddress("eglCreateImageKHR"));
         destroyImage_ = reinterpret_cast<PFNEGLDESTROYIMAGEKHRPROC>(eglGetProcAddress("eglDestroyImageKHR"));

@@ -10,13 +10,15 @@
 // sample those formats.
 // Each buffer is imported once, when first seen, and its images and textures are dropped when
 // the buffer is gone (its stream stopped and no frame holds it). A display without the
-// extension, or a failed import, is logged once and leaves the frame to the plain upload.
+// extension, a driver that cannot read another device's buffers (kms_swrast), or a failed
+// import, is logged once and leaves the frame to the plain upload.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -53,9 +55,20 @@ DmabufImports dmabufImportsFor(const YCbCrImage& image);
 // V4L2 MMAP buffers are; without, the driver assumes so.
 std::vector<EGLint> dmabufImageAttributes(const DmabufPlaneImport& plane, bool linearModifier);
 
-// Why camera buffers cannot be imported on a display and context with these extensions; empty
-// when they can.
-std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBase, bool glEglImage);
+// Whose dmabufs an importer is given. Zero-copy capture lends another device's (the camera's);
+// the render device's own (its dumb buffers, exported) are what the import can be tested with
+// where no camera shares memory with the GPU (tests/gl/dmabuf_device_test.cpp).
+enum class DmabufOrigin { OtherDevice, RenderDevice };
+
+// Why buffers of `origin` cannot be imported on a display and context with these extensions
+// and this DRI driver (EglDisplay::driverName); empty when they can.
+// kms_swrast (llvmpipe on a KMS or vgem node) reads an imported buffer through
+// DRM_IOCTL_MODE_MAP_DUMB, which the kernel refuses for a buffer another device exported, and
+// Mesa (22.3) then dereferences the failed mapping on the first draw: a camera's buffers
+// would crash the daemon, so they are not imported there.
+std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBase, bool glEglImage,
+                                          std::string_view driverName = {},
+                                          DmabufOrigin origin = DmabufOrigin::OtherDevice);
 
 // An EGLImage, destroyed with its display's eglDestroyImageKHR. Move-only.
 class EglImage {
@@ -110,9 +123,9 @@ struct DmabufTextures {
 
 class DmabufImporter {
 public:
-    // Decides, for `display` and the context current now, whether buffers can be imported
-    // (logs why not, once). The display must outlive the importer.
-    explicit DmabufImporter(const EglDisplay& display);
+    // Decides, for `display` and the context current now, whether buffers of `origin` can be
+    // imported (logs why not, once). The display must outlive the importer.
+    explicit DmabufImporter(const EglDisplay& display, DmabufOrigin origin = DmabufOrigin::OtherDevice);
     DmabufImporter(const DmabufImporter&) = delete;
     DmabufImporter& operator=(const DmabufImporter&) = delete;
 

@@ -11,18 +11,16 @@
 #include "core/log.h"
 
 namespace lumar {
-namespace {
 
-// The driver's name as drmGetVersion reports it ("bochs-drm", "vc4"), empty on failure.
-std::string driverName(int fd)
+std::string drmDriverName(int fd)
 {
-    drmVersionPtr version = drmGetVersion(fd);
+    const std::unique_ptr<drmVersion, DrmFree<drmVersion, drmFreeVersion>> version(drmGetVersion(fd));
     if (!version)
         return {};
-    std::string name(version->name, size_t(version->name_len));
-    drmFreeVersion(version);
-    return name;
+    return {version->name, size_t(version->name_len)};
 }
+
+namespace {
 
 bool hasConnectedConnector(const DrmDevice& device)
 {
@@ -67,7 +65,7 @@ DrmDevice::DrmDevice(const std::filesystem::path& path) : path_(path)
     fd_.reset(::open(path.c_str(), O_RDWR | O_CLOEXEC));
     if (!fd_.valid())
         throw RuntimeError(path.string() + ": cannot open: " + std::strerror(errno));
-    driver_ = driverName(fd_.get());
+    driver_ = drmDriverName(fd_.get());
     // Universal planes expose the primary plane as a plane (needed for atomic and for the
     // plane choice); atomic is optional, the legacy API is the fallback.
     if (drmSetClientCap(fd_.get(), DRM_CLIENT_CAP_UNIVERSAL_PLANES, 1) != 0)

@@ -90,4 +90,8 @@ std::vector<std::filesystem::path> drmCardNodes();
 // "XR24" for DRM_FORMAT_XRGB8888.
 std::string drmFormatName(uint32_t fourcc);
 
+// The driver's name as drmGetVersion reports it on DRM fd `fd` ("bochs-drm", "vc4", "vgem"),
+// empty on failure.
+std::string drmDriverName(int fd);
+
 } // namespace lumar

@@ -54,6 +54,39 @@ std::string eglErrorName(EGLint error)
     }
 }
 
+// The DRI driver's name, where EGL_MESA_query_driver is there.
+std::string queryDriverName(EGLDisplay display, std::string_view extensions)
+{
+    if (!extensionListHas(extensions, "EGL_MESA_query_driver"))
+        return {};
+    using GetDriverName = const char* (*)(EGLDisplay);
+    const auto getDriverName = reinterpret_cast<GetDriverName>(eglGetProcAddress("eglGetDisplayDriverName"));
+    const char* name = getDriverName ? getDriverName(display) : nullptr;
+    return name ? name : "";
+}
+
+// The DRM node of the display's EGLDevice, where EGL_EXT_device_query and EGL_EXT_device_drm
+// are there (the first is a client extension, the second the device's).
+std::string queryDrmDeviceFile(EGLDisplay display, std::string_view clientExtensions)
+{
+    if (!extensionListHas(clientExtensions, "EGL_EXT_device_query") &&
+        !extensionListHas(clientExtensions, "EGL_EXT_device_base"))
+        return {};
+    const auto queryDisplay =
+        reinterpret_cast<PFNEGLQUERYDISPLAYATTRIBEXTPROC>(eglGetProcAddress("eglQueryDisplayAttribEXT"));
+    const auto queryDeviceString =
+        reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    EGLAttrib device = 0;
+    if (!queryDisplay || !queryDeviceString || !queryDisplay(display, EGL_DEVICE_EXT, &device) || device == 0)
+        return {};
+    const auto handle = reinterpret_cast<EGLDeviceEXT>(device);
+    const char* deviceExtensions = queryDeviceString(handle, EGL_EXTENSIONS);
+    if (!deviceExtensions || !extensionListHas(deviceExtensions, "EGL_EXT_device_drm"))
+        return {};
+    const char* file = queryDeviceString(handle, EGL_DRM_DEVICE_FILE_EXT);
+    return file ? file : "";
+}
+
 std::mutex sharedDisplayMutex;
 std::weak_ptr<EglDisplay> sharedDisplay;
 
@@ -103,12 +136,15 @@ std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativ
     display->minor_ = minor;
     const char* extensions = eglQueryString(display->display_, EGL_EXTENSIONS);
     display->extensions_ = extensions ? extensions : "";
+    display->driverName_ = queryDriverName(display->display_, display->extensions_);
+    display->drmDeviceFile_ = queryDrmDeviceFile(display->display_, client);
     return display;
 }
 
 EglDisplay::EglDisplay(EglDisplay&& other) noexcept
     : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), windowConfig_(other.windowConfig_), major_(other.major_),
-      minor_(other.minor_), extensions_(std::move(other.extensions_))
+      minor_(other.minor_), extensions_(std::move(other.extensions_)), driverName_(std::move(other.driverName_)),
+      drmDeviceFile_(std::move(other.drmDeviceFile_))
 {
 }
 
@@ -121,6 +157,8 @@ EglDisplay& EglDisplay::operator=(EglDisplay&& other) noexcept
         major_ = other.major_;
         minor_ = other.minor_;
         extensions_ = std::move(other.extensions_);
+        driverName_ = std::move(other.driverName_);
+        drmDeviceFile_ = std::move(other.drmDeviceFile_);
     }
     return *this;
 }

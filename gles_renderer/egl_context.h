@@ -32,6 +32,13 @@ public:
 
     [[nodiscard]] EGLDisplay handle() const { return display_; }
     [[nodiscard]] bool hasExtension(std::string_view name) const;
+    // The Mesa DRI driver behind the display ("kms_swrast", "iris", "v3d"...:
+    // EGL_MESA_query_driver); empty where EGL does not say.
+    [[nodiscard]] const std::string& driverName() const { return driverName_; }
+    // The DRM node of the device the display renders with (EGL_EXT_device_query with
+    // EGL_EXT_device_drm, e.g. "/dev/dri/card1"); empty for a device without one (plain
+    // swrast) or where EGL does not say.
+    [[nodiscard]] const std::string& drmDeviceFile() const { return drmDeviceFile_; }
     [[nodiscard]] int majorVersion() const { return major_; }
     [[nodiscard]] int minorVersion() const { return minor_; }
     // GBM displays: the ES 3 window config whose native visual is the scan-out format (set by
@@ -50,6 +57,8 @@ private:
     EGLConfig windowConfig_ = nullptr;
     int major_ = 0, minor_ = 0;
     std::string extensions_;
+    std::string driverName_;
+    std::string drmDeviceFile_;
 };
 
 // An OpenGL ES 3.0 (or later, compatible) context with no surface. Make it current before

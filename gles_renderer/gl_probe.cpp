@@ -5,6 +5,7 @@
 
 #include <GLES3/gl3.h>
 
+#include "gles_renderer/dmabuf_image.h"
 #include "gles_renderer/egl_context.h"
 #include "gles_renderer/gl_check.h"
 
@@ -56,6 +57,11 @@ GlInfo probeGl()
     }
     for (const char* name : kGlExtensions)
         info.glExtensions.emplace_back(name, hasGlExtension(name));
+    info.driverName = display->driverName();
+    info.drmDevice = display->drmDeviceFile();
+    info.cameraImport = dmabufImportUnavailableReason(display->hasExtension("EGL_EXT_image_dma_buf_import"),
+                                                      display->hasExtension("EGL_KHR_image_base"),
+                                                      hasGlExtension("GL_OES_EGL_image"), display->driverName());
     return info;
 }
 

@@ -11,6 +11,9 @@ namespace lumar {
 struct GlInfo {
     std::string eglVendor, eglVersion, eglClientApis;
     std::string glVersion, glRenderer, glslVersion;
+    std::string driverName;                                  // the DRI driver (EGL_MESA_query_driver), empty if unknown
+    std::string drmDevice;                                   // the DRM node it renders with, empty for none or unknown
+    std::string cameraImport;                                // why camera dmabufs cannot be imported; empty: they can
     std::vector<std::pair<std::string, bool>> eglExtensions; // name, present
     std::vector<std::pair<std::string, bool>> glExtensions;
 };

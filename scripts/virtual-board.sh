@@ -8,6 +8,11 @@
 #   kms-bars  `lumar run` presents vivid through KMS: the bars on screen (QEMU screendump)
 #   kms-tags  `lumar run` presents the fake camera's tag scene through KMS: the virtual object
 #             on screen where the ground-truth pose puts it
+#   dmabuf-import  with vgem loaded (llvmpipe through kms_swrast on it, EGL_EXT_image_dma_buf_import):
+#             gl_dmabuf_device_tests imports real dmabufs (vgem's dumb buffers) and draws them
+#             like the uploaded planes; the texture is the buffer
+#   dmabuf-camera  `lumar run` with vivid on that display: its dmabufs (another device's, which
+#             kms_swrast cannot map) are refused up front, the bars still come out in order
 # The kms-* steps run when this lumar accepts `[output] sink = "kms"`; before that the test
 # stops after `capture` and exits 77 (skipped), so 0 always means every check passed.
 #
@@ -64,8 +69,10 @@ since() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }'; }
 
 lumar=$build/lumar
 checker=$build/tests/system/virtual_board_check
+dmabuf_tests=$build/tests/gl/gl_dmabuf_device_tests
 [ -x "$lumar" ] || die "$lumar not built (ninja -C $build lumar)" 2
 [ -x "$checker" ] || die "$checker not built (ninja -C $build virtual_board_check)" 2
+[ -x "$dmabuf_tests" ] || die "$dmabuf_tests not built (ninja -C $build gl_dmabuf_device_tests)" 2
 for tool in qemu-system-x86_64 busybox cpio dpkg-deb apt-get ldd strip; do
   command -v "$tool" >/dev/null || die "$tool not found (scripts/install-deps.sh)" 2
 done
@@ -110,7 +117,7 @@ fi
 # uncompressed: under TCG the kernel unpacks a compressed one more slowly than QEMU loads the
 # plain file.
 stamp=$( {
-  sha256sum "$lumar" "$0" "$top/tests/system/virtual-board-init.sh"
+  sha256sum "$lumar" "$dmabuf_tests" "$0" "$top/tests/system/virtual-board-init.sh"
   find "$top/board" "$top/daemon/assets" -type f -print0 | sort -z | xargs -0 sha256sum
   echo "$kver"
 } | sha256sum | cut -c1-16)
@@ -133,7 +140,7 @@ if [ ! -f "$initramfs" ]; then
   chmod 755 "$root/init"
 
   # Modules: the drivers and everything modules.dep says they need.
-  wanted="vivid bochs virtio-gpu virtio_pci 9pnet_virtio 9p"
+  wanted="vivid bochs virtio-gpu vgem virtio_pci 9pnet_virtio 9p"
   mods=()
   for m in $wanted; do
     pattern=${m//[-_]/[-_]}
@@ -153,6 +160,8 @@ if [ ! -f "$initramfs" ]; then
   cp -a "$cache/install/usr/." "$root/usr/"
   rm -rf "$cache/install"
   strip --strip-debug "$root/usr/bin/lumar"
+  cp "$dmabuf_tests" "$root/usr/bin/"
+  strip --strip-debug "$root/usr/bin/$(basename "$dmabuf_tests")"
 
   # Mesa: GBM, EGL through glvnd, and the one megadriver file llvmpipe is in (kms_swrast for
   # GBM on a dumb-buffer KMS device, swrast for surfaceless).
@@ -161,7 +170,7 @@ if [ ! -f "$initramfs" ]; then
   cp "$libdir/dri/kms_swrast_dri.so" "$root$libdir/dri/"
   ln -s kms_swrast_dri.so "$root$libdir/dri/swrast_dri.so"
   cp /usr/share/glvnd/egl_vendor.d/50_mesa.json "$root/usr/share/glvnd/egl_vendor.d/"
-  elves=("$lumar" "$libdir/dri/kms_swrast_dri.so" "$libdir/libEGL_mesa.so.0" "$libdir/libgbm.so.1")
+  elves=("$lumar" "$dmabuf_tests" "$libdir/dri/kms_swrast_dri.so" "$libdir/libEGL_mesa.so.0" "$libdir/libgbm.so.1")
   for elf in "${elves[@]}"; do
     ldd "$elf" | awk '/=> \// { print $3 } /^[ \t]*\/.*ld-linux/ { print $1 }'
   done | sort -u | while read -r lib; do
@@ -305,6 +314,12 @@ if [ "$kms" = 1 ]; then
   else
     log "kms-tags: no screendump"; failed=1
   fi
+fi
+for s in dmabuf-import dmabuf-camera; do step "$s" || { log "step $s failed in the guest"; failed=1; }; done
+if [ -f "$share/dmabuf-camera.png" ]; then
+  check dmabuf-camera-bars "$checker" bars "$share/dmabuf-camera.png" --camera 640x480
+else
+  log "dmabuf-camera: no dmabuf-camera.png came back"; failed=1
 fi
 
 log "boot to user space ${boot_s:-?} s, VM run ${run_s} s, total $(since "$started") s"

@@ -82,6 +82,10 @@ void printGraphics()
         std::printf("  EGL %s (%s), client APIs: %s\n", gl.eglVersion.c_str(), gl.eglVendor.c_str(),
                     gl.eglClientApis.c_str());
         std::printf("  %s, %s\n  renderer: %s\n", gl.glVersion.c_str(), gl.glslVersion.c_str(), gl.glRenderer.c_str());
+        std::printf("  driver: %s%s%s\n", gl.driverName.empty() ? "(not reported)" : gl.driverName.c_str(),
+                    gl.drmDevice.empty() ? "" : " on ", gl.drmDevice.c_str());
+        std::printf("  camera dmabuf import: %s\n",
+                    gl.cameraImport.empty() ? "yes (zero-copy)" : ("no: " + gl.cameraImport).c_str());
         for (const auto* list : {&gl.eglExtensions, &gl.glExtensions})
             for (const auto& [name, present] : *list)
                 std::printf("  %-42s %s\n", name.c_str(), present ? "yes" : "no");

@@ -128,6 +128,12 @@ TEST(DmabufImport, TheDecisionNamesWhatIsMissing)
     EXPECT_NE(dmabufImportUnavailableReason(false, true, true).find("EGL_EXT_image_dma_buf_import"), std::string::npos);
     EXPECT_NE(dmabufImportUnavailableReason(true, false, true).find("EGL_KHR_image_base"), std::string::npos);
     EXPECT_NE(dmabufImportUnavailableReason(true, true, false).find("GL_OES_EGL_image"), std::string::npos);
+    // kms_swrast cannot map another device's dmabuf (Mesa would crash on the first draw), but
+    // can read its own device's buffers; other drivers take both.
+    EXPECT_NE(dmabufImportUnavailableReason(true, true, true, "kms_swrast").find("kms_swrast"), std::string::npos);
+    EXPECT_EQ(dmabufImportUnavailableReason(true, true, true, "kms_swrast", DmabufOrigin::RenderDevice), "");
+    EXPECT_EQ(dmabufImportUnavailableReason(true, true, true, "iris"), "");
+    EXPECT_EQ(dmabufImportUnavailableReason(true, true, true, "v3d", DmabufOrigin::OtherDevice), "");
 }
 
 // This display's answer, and what a lent buffer gets from the importer.

@@ -103,4 +103,42 @@ EOF
   present kms-tags tags-kms.toml 10
   grep -h 'KMS output\|dma-buf\|dmabuf\|zero-copy\|import' kms-bars.log kms-tags.log | sed 's/^/kms| /'
 fi
+
+# --- dmabuf: real dmabufs through EGL_EXT_image_dma_buf_import ------------------------------
+# vgem gives llvmpipe a DRM device: Mesa's surfaceless display then runs kms_swrast on it and
+# offers the dmabuf import. Loaded last, so the steps above render as they would without it.
+if ! modprobe vgem; then
+  failed dmabuf-import "modprobe vgem failed"
+else
+  # lumar's import path (dmabuf_image.h, the background pass) with buffers of the display's
+  # own device, vgem's dumb buffers: every layout, matrix and range against the CPU converter.
+  if gl_dmabuf_device_tests >dmabuf-import.log 2>&1 && grep -q '^\[  PASSED  \] 3 tests' dmabuf-import.log; then
+    grep '^dmabuf import:' dmabuf-import.log
+    ok dmabuf-import
+  else
+    grep -v '^\[ \|^$' dmabuf-import.log | tail -8
+    failed dmabuf-import "the device import tests failed or skipped (dmabuf-import.log)"
+  fi
+  # vivid's buffers on that display: kms_swrast cannot map another device's dmabuf, so lumar
+  # must refuse them up front and upload (Mesa 22.3 crashes on the first draw otherwise).
+  cat >/tmp/dmabuf-camera.toml <<'EOF'
+board = "qemu-virtual-board"
+[camera]
+convert = "gpu"
+[output]
+path = "/tmp/dmabuf-camera.png"
+EOF
+  if lumar run --config /tmp/dmabuf-camera.toml --frames 30 >dmabuf-camera.log 2>&1 &&
+     cp /tmp/dmabuf-camera.png dmabuf-camera.png; then
+    grep -h 'dmabuf' dmabuf-camera.log | sed 's/^/dmabuf| /'
+    if grep -q 'no dmabuf import (the EGL driver is kms_swrast' dmabuf-camera.log; then
+      ok dmabuf-camera
+    else
+      failed dmabuf-camera "lumar did not refuse vivid's dmabufs on kms_swrast (dmabuf-camera.log)"
+    fi
+  else
+    tail -5 dmabuf-camera.log
+    failed dmabuf-camera "lumar run failed with vivid on the vgem display (dmabuf-camera.log)"
+  fi
+fi
 exit "$status"
