@@ -13,6 +13,8 @@
 #             like the uploaded planes; the texture is the buffer
 #   dmabuf-camera  `lumar run` with vivid on that display: its dmabufs (another device's, which
 #             kms_swrast cannot map) are refused up front, the bars still come out in order
+#   libcamera `lumar run` with `source = "libcamera"` on vimc (built here for the guest's kernel)
+#             through libcamera's vimc pipeline handler: its colour bars in order
 # The kms-* steps run when this lumar accepts `[output] sink = "kms"`; before that the test
 # stops after `capture` and exits 77 (skipped), so 0 always means every check passed.
 #
@@ -112,12 +114,46 @@ if [ ! -f "$vmlinuz" ] || [ ! -f "$moddir/modules.dep" ]; then
   die "$kdir: incomplete kernel tree (delete it to refetch)"
 fi
 
+# --- vimc and libcamera's IPA: a camera libcamera drives, for the libcamera step ------------
+# Debian's kernel leaves vimc (the virtual media-controller camera, which libcamera's vimc
+# pipeline handler drives) unbuilt, so the module is built here, once, for exactly this kernel:
+# its headers and kbuild packages, and vimc's directory from the matching kernel source
+# package. libcamera-ipa holds the vimc IPA module the pipeline handler loads.
+vimc=$kdir/vimc
+if [ ! -e "$vimc/built" ]; then
+  log "building the vimc module for $kver (once)"
+  t0=$(now)
+  rm -rf "$vimc"
+  mkdir -p "$vimc/deb" "$vimc/root" "$vimc/src"
+  series=$(echo "$kver" | cut -d. -f1-2)                  # 6.1
+  common=${kver%-*}-common                                # 6.1.0-57-common
+  ipa_version=$(dpkg-query -W -f='${Version}' libcamera0.0.3 2>/dev/null || true)
+  packages=("linux-headers-$kver" "linux-headers-$common" "linux-kbuild-$series" "linux-source-$series"
+            "libcamera-ipa${ipa_version:+=$ipa_version}")
+  (cd "$vimc/deb" && apt-get download "${packages[@]}" >/dev/null 2>&1) ||
+    (cd "$vimc/deb" && apt-get download "${packages[@]}") || die "apt-get download ${packages[*]} failed"
+  for deb in "$vimc"/deb/linux-headers-*.deb "$vimc"/deb/linux-kbuild-*.deb "$vimc"/deb/libcamera-ipa_*.deb; do
+    dpkg-deb -x "$deb" "$vimc/root"
+  done
+  dpkg-deb --fsys-tarfile "$vimc"/deb/linux-source-*.deb |
+    tar -xO "./usr/src/linux-source-$series.tar.xz" |
+    tar -xJ -C "$vimc/src" --strip-components=5 "linux-source-$series/drivers/media/test-drivers/vimc"
+  # The headers' Makefile includes the common tree by its installed path; point it here.
+  headers=$vimc/root/usr/src/linux-headers-$kver
+  sed -i "s#^include /usr/src/#include $vimc/root/usr/src/#" "$headers/Makefile"
+  make -s -C "$headers" M="$vimc/src" CONFIG_VIDEO_VIMC=m modules >"$vimc/build.log" 2>&1 ||
+    { cat "$vimc/build.log"; die "building vimc.ko failed"; }
+  rm -rf "$vimc/deb"
+  touch "$vimc/built"
+  log "vimc.ko built in $(since "$t0") s"
+fi
+
 # --- Initramfs: busybox, the needed modules, lumar installed with its library closure --------
 # Rebuilt when lumar, its installed files, this script or the kernel change. Left
 # uncompressed: under TCG the kernel unpacks a compressed one more slowly than QEMU loads the
 # plain file.
 stamp=$( {
-  sha256sum "$lumar" "$dmabuf_tests" "$0" "$top/tests/system/virtual-board-init.sh"
+  sha256sum "$lumar" "$dmabuf_tests" "$vimc/src/vimc.ko" "$0" "$top/tests/system/virtual-board-init.sh"
   find "$top/board" "$top/daemon/assets" -type f -print0 | sort -z | xargs -0 sha256sum
   echo "$kver"
 } | sha256sum | cut -c1-16)
@@ -140,7 +176,9 @@ if [ ! -f "$initramfs" ]; then
   chmod 755 "$root/init"
 
   # Modules: the drivers and everything modules.dep says they need.
-  wanted="vivid bochs virtio-gpu vgem virtio_pci 9pnet_virtio 9p"
+  # vimc's own dependencies (its modinfo "depends=") come from the kernel's tree.
+  vimc_depends=$(strings "$vimc/src/vimc.ko" | sed -n 's/^depends=//p' | tr ',' ' ')
+  wanted="vivid bochs virtio-gpu vgem virtio_pci 9pnet_virtio 9p $vimc_depends"
   mods=()
   for m in $wanted; do
     pattern=${m//[-_]/[-_]}
@@ -152,6 +190,8 @@ if [ ! -f "$initramfs" ]; then
     mkdir -p "$root/lib/modules/$kver/$(dirname "$f")"
     cp "$moddir/$f" "$root/lib/modules/$kver/$f"
   done
+  mkdir -p "$root/lib/modules/$kver/extra"
+  cp "$vimc/src/vimc.ko" "$root/lib/modules/$kver/extra/"
   cp "$moddir"/modules.{order,builtin} "$root/lib/modules/$kver/"
   busybox depmod -b "$root" "$kver"
 
@@ -177,6 +217,10 @@ if [ ! -f "$initramfs" ]; then
     # The library under the name the loader looks for (its SONAME path), symlinks resolved.
     [ -e "$root$lib" ] || { mkdir -p "$root$(dirname "$lib")"; cp -L "$lib" "$root$lib"; }
   done
+  # libcamera's IPA modules (with their signatures and proxies) and their configuration files.
+  cp -a "$vimc/root/usr/lib/x86_64-linux-gnu/libcamera" "$root$libdir/"
+  mkdir -p "$root/usr/share/libcamera"
+  cp -a "$vimc/root/usr/share/libcamera/ipa" "$root/usr/share/libcamera/"
   for lib in "$libdir/libEGL_mesa.so.0" "$libdir/libgbm.so.1"; do
     [ -e "$root$lib" ] || cp -L "$lib" "$root$lib"
   done
@@ -287,6 +331,9 @@ log "guest console:"
 grep -v '^LUMAR-VB: screendump' "$run/console.txt" | sed 's/^/  | /'
 failed=0
 step() { grep -q "^LUMAR-VB: step $1 ok" "$run/console.txt"; }
+png_size() { # WIDTHxHEIGHT from a PNG's IHDR (big-endian at bytes 16-23)
+  od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d", $1 * 16777216 + $2 * 65536 + $3 * 256 + $4, $5 * 16777216 + $6 * 65536 + $7 * 256 + $8 }'
+}
 check() { # NAME COMMAND...: run a host-side check and report it
   local name=$1; shift
   if "$@" >"$run/$name.check" 2>&1; then
@@ -315,11 +362,17 @@ if [ "$kms" = 1 ]; then
     log "kms-tags: no screendump"; failed=1
   fi
 fi
-for s in dmabuf-import dmabuf-camera; do step "$s" || { log "step $s failed in the guest"; failed=1; }; done
+for s in dmabuf-import dmabuf-camera libcamera; do step "$s" || { log "step $s failed in the guest"; failed=1; }; done
 if [ -f "$share/dmabuf-camera.png" ]; then
   check dmabuf-camera-bars "$checker" bars "$share/dmabuf-camera.png" --camera 640x480
 else
   log "dmabuf-camera: no dmabuf-camera.png came back"; failed=1
+fi
+if [ -f "$share/libcamera.png" ]; then
+  # libcamera settles the size with vimc (multiples of 6): the still is the camera frame.
+  check libcamera-bars "$checker" bars "$share/libcamera.png" --camera "$(png_size "$share/libcamera.png")"
+else
+  log "libcamera: no libcamera.png came back"; failed=1
 fi
 
 log "boot to user space ${boot_s:-?} s, VM run ${run_s} s, total $(since "$started") s"

@@ -44,7 +44,8 @@ LibcameraBuffer::LibcameraBuffer(const libcamera::FrameBuffer& buffer, DmabufMap
                           planes[0].offset + uint32_t(lumaBytes)};
         }
     }
-    drmFourcc_ = layout.format.fourcc();
+    // CameraBuffer's formats are the YCbCr ones the renderer imports; an RGB buffer is none.
+    drmFourcc_ = isPackedRgbLibcameraFormat(layout.format) ? 0 : layout.format.fourcc();
 }
 
 } // namespace lumar

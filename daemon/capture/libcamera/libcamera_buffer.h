@@ -2,7 +2,9 @@
 // owns the buffer's mapping and duplicates of its dmabufs, so a frame keeps the memory valid
 // even after the source, its allocator and its FrameBuffer are gone, and describes the NV12
 // (one plane or two) or YUYV planes in both. libcamera's pixel formats are DRM fourccs, so
-// the layout's format is the buffer's DRM format as it is.
+// the layout's format is the buffer's DRM format as it is. Packed RGB buffers are never lent
+// (the source converts them on the CPU): theirs describe plane 0 and no DRM format, so
+// nothing can import one as a YCbCr frame.
 #pragma once
 
 #include <vector>

@@ -12,7 +12,7 @@ namespace lumar {
 
 struct LibcameraFormatInfo {
     std::string pixelFormat;      // libcamera's name, e.g. "NV12"
-    bool convertible = false;     // lumar can capture it (NV12, YUYV)
+    bool convertible = false;     // lumar can capture it (convertibleLibcameraFormats)
     std::vector<FrameSize> sizes; // the discrete sizes; empty when only a range is known
     FrameSize minSize, maxSize;   // the range of sizes
 };

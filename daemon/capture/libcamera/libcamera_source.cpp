@@ -116,19 +116,14 @@ void LibcameraSource::configureStream()
     const libcamera::PixelFormat required = libcameraFormatFromName(options_.format);
     const libcamera::PixelFormat format = chooseLibcameraFormat(stream.formats().pixelformats(), required);
     if (!format.isValid()) {
-        std::string offered;
-        for (const libcamera::PixelFormat& f : stream.formats().pixelformats()) {
-            offered += (offered.empty() ? "" : ", ") + f.toString();
-        }
         throw RuntimeError("libcamera: camera " + cameraId_ + " " +
-                           (required.isValid() ? "does not offer camera.format " + required.toString()
-                                               : std::string("has no viewfinder format lumar converts")) +
-                           " (offers " + (offered.empty() ? "none" : offered) + "; lumar converts NV12, YUYV)");
+                           noConvertibleFormatReason(stream.formats().pixelformats(), required));
     }
     stream.pixelFormat = format;
     stream.size = libcamera::Size(unsigned(std::max(options_.width, 1)), unsigned(std::max(options_.height, 1)));
-    stream.bufferCount =
-        unsigned(std::max(options_.bufferCount, 2) + (options_.zeroCopy && options_.rawYcbcr ? kLentBuffers : 0));
+    // Only YCbCr streams lend buffers; packed RGB is converted on the CPU whatever camera.convert says.
+    const bool lends = options_.zeroCopy && options_.rawYcbcr && !isPackedRgbLibcameraFormat(format);
+    stream.bufferCount = unsigned(std::max(options_.bufferCount, 2) + (lends ? kLentBuffers : 0));
     const std::string requested = describeStream(stream);
     switch (configuration_->validate()) {
     case libcamera::CameraConfiguration::Invalid:
@@ -160,14 +155,30 @@ void LibcameraSource::configureStream()
     height_ = layout.height;
     stride_ = layout.stride;
     pixelFormat_ = layout.format.fourcc();
+    const bool packedRgb = isPackedRgbLibcameraFormat(layout.format);
+    gpuYcbcr_ = options_.rawYcbcr && !packedRgb;
     converter_ = YCbCrConverter(colorimetryOfColorSpace(stream.colorSpace));
+    if (packedRgb) {
+        // No YCbCr matrix or range applies: say only what the pipeline reported, if anything.
+        LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": " << stream.toString() << ", packed RGB"
+                                 << (stream.colorSpace
+                                         ? ", colour space " + libcamera::ColorSpace::toString(stream.colorSpace)
+                                         : std::string())
+                                 << ", converted on the CPU";
+        if (options_.rawYcbcr) {
+            LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": camera.convert = \"gpu\" applies to "
+                                     << "YCbCr streams only; this " << layout.format.toString()
+                                     << " stream is converted on the CPU (and its buffers are not lent)";
+        }
+        return;
+    }
     const YCbCrColorimetry colorimetry = converter_.colorimetry();
     LUMAR_LOG(Capture, Info) << "libcamera: " << cameraId_ << ": " << stream.toString() << ", colour space "
                              << libcamera::ColorSpace::toString(stream.colorSpace) << " ("
                              << (colorimetry.matrix == YCbCrMatrix::Bt709 ? "BT.709" : "BT.601")
                              << (colorimetry.fullRange ? " full range" : " limited range")
                              << (stream.colorSpace ? "" : ", assumed") << ")"
-                             << (options_.rawYcbcr ? ", converted on the GPU" : "");
+                             << (gpuYcbcr_ ? ", converted on the GPU" : "");
 }
 
 void LibcameraSource::allocateBuffers()
@@ -324,7 +335,7 @@ bool LibcameraSource::canLend() const
 {
     // The request just completed, the lent ones, and at least two left with the camera.
     constexpr size_t kKeptQueued = 2;
-    return options_.zeroCopy && options_.rawYcbcr && requests_.size() >= lent_.size() + 1 + kKeptQueued;
+    return options_.zeroCopy && gpuYcbcr_ && requests_.size() >= lent_.size() + 1 + kKeptQueued;
 }
 
 void LibcameraSource::lendBuffer(const std::shared_ptr<LibcameraBuffer>& buffer, const LibcameraLayout& layout,
@@ -399,7 +410,7 @@ bool LibcameraSource::next(Frame& frame)
         const bool lend = canLend();
         if (lend) {
             lendBuffer(mapped->second, layout, frame);
-        } else if (options_.rawYcbcr) {
+        } else if (gpuYcbcr_) {
             keepLibcameraPlanes(mapped->second->mapping(), layout, converter_, frame);
         } else {
             // A frame object recycled from a raw frame must not carry stale planes.

@@ -2,8 +2,9 @@
 // uvcvideo pipeline) behind the CaptureSource interface: one Viewfinder stream in NV12 (or
 // YUYV), converted on the CPU to sRGB plus luma by the V4L2 backend's converter, or handed to
 // the renderer as YCbCr planes (rawYcbcr): copied, or the frame buffers themselves lent
-// (zeroCopy) for the renderer to import their dmabufs. Controls from the config go with
-// start(). Requests complete on libcamera's thread into a queue next() waits on; the completed
+// (zeroCopy) for the renderer to import their dmabufs. Pipelines with no YCbCr viewfinder
+// format (vimc) give packed RGB, which is always converted on the CPU. Controls from the
+// config go with start(). Requests complete on libcamera's thread into a queue next() waits on; the completed
 // buffer is read through a dmabuf mapping made once per buffer, and its request is queued
 // again (a lent one once no frame holds its buffer).
 // A failed or missing camera throws CameraUnavailable (a RuntimeError); reconnecting after an
@@ -45,7 +46,8 @@ struct LibcameraOptions : CameraStreamOptions {
     // A libcamera camera id (as `lumar probe` lists them); anything else, such as the
     // config's default "/dev/video0", selects the first camera.
     std::string cameraId;
-    std::string format = "auto"; // camera.format: "auto" (NV12, then YUYV), "nv12" or "yuyv"
+    // camera.format: "auto" (NV12, then YUYV, then packed RGB), "nv12" or "yuyv".
+    std::string format = "auto";
 };
 
 class LibcameraSource final : public CaptureSource {
@@ -122,6 +124,9 @@ private:
     double fps_ = 0.0;
     size_t stride_ = 0;
     uint32_t pixelFormat_ = 0; // the stream's fourcc
+    // rawYcbcr and a YCbCr stream: frames keep (or lend) the planes for the GPU. False for
+    // packed RGB, which has no planes the renderer's YCbCr conversion takes.
+    bool gpuYcbcr_ = false;
     YCbCrConverter converter_{YCbCrColorimetry{}};
 
     // Filled on libcamera's thread, drained by next().

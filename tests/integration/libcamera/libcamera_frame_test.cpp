@@ -3,9 +3,11 @@
 // layout checks and the conversion run exactly as on a camera's buffers. The converted pixels
 // are compared with the BT.601/709 equations evaluated in double precision.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -222,13 +224,47 @@ TEST(LibcameraFrame, PlaneWithoutADmabufIsARuntimeError)
     EXPECT_THROW(DmabufMapping{buffer}, RuntimeError);
 }
 
-TEST(LibcameraFrame, FormatPreferenceIsNv12ThenYuyv)
+TEST(LibcameraFrame, FormatPreferenceIsNv12ThenYuyvThenPackedRgb)
 {
     using namespace libcamera::formats;
     EXPECT_EQ(chooseLibcameraFormat({YUYV, MJPEG, NV12}), NV12);
     EXPECT_EQ(chooseLibcameraFormat({MJPEG, YUYV, RGB888}), YUYV);
-    EXPECT_FALSE(chooseLibcameraFormat({MJPEG, RGB888}).isValid());
+    EXPECT_EQ(chooseLibcameraFormat({BGR888, RGB888, NV12}), NV12);
+    // vimc (libcamera 0.0.3) offers only these two; BGR888 is its default.
+    EXPECT_EQ(chooseLibcameraFormat({RGB888, BGR888}), BGR888);
+    EXPECT_EQ(chooseLibcameraFormat({RGB888, BGR888}, libcameraFormatFromName("auto")), BGR888);
+    EXPECT_EQ(chooseLibcameraFormat({MJPEG, RGB888}), RGB888);
+    EXPECT_EQ(chooseLibcameraFormat({XRGB8888, XBGR8888}), XBGR8888);
+    EXPECT_EQ(chooseLibcameraFormat({XRGB8888, RGB888}), RGB888); // 3 bytes a pixel before 4
+    EXPECT_EQ(chooseLibcameraFormat({MJPEG, XRGB8888}), XRGB8888);
+    // Other RGB layouts (16-bit, alpha-first words) are not converted.
+    EXPECT_FALSE(chooseLibcameraFormat({MJPEG, RGB565, ARGB8888, RGBA8888}).isValid());
     EXPECT_FALSE(chooseLibcameraFormat({}).isValid());
+    // A required YCbCr format an RGB-only camera lacks is none, as for any other camera.
+    EXPECT_FALSE(chooseLibcameraFormat({RGB888, BGR888}, YUYV).isValid());
+
+    for (const libcamera::PixelFormat& format : {RGB888, BGR888, XRGB8888, XBGR8888}) {
+        EXPECT_TRUE(isConvertibleLibcameraFormat(format)) << format.toString();
+        EXPECT_TRUE(isPackedRgbLibcameraFormat(format)) << format.toString();
+    }
+    for (const libcamera::PixelFormat& format : {NV12, YUYV, MJPEG, RGB565}) {
+        EXPECT_FALSE(isPackedRgbLibcameraFormat(format)) << format.toString();
+    }
+}
+
+TEST(LibcameraFrame, NoConvertibleFormatMessageListsWhatLumarConverts)
+{
+    using namespace libcamera::formats;
+    EXPECT_EQ(convertibleLibcameraFormatNames(), "NV12, YUYV, BGR888, RGB888, XBGR8888, XRGB8888");
+    EXPECT_EQ(noConvertibleFormatReason({MJPEG, RGB565}, {}),
+              "has no viewfinder format lumar converts (offers MJPEG, RGB565; lumar converts NV12, YUYV, BGR888, "
+              "RGB888, XBGR8888, XRGB8888)");
+    EXPECT_EQ(noConvertibleFormatReason({RGB888, BGR888}, YUYV),
+              "does not offer camera.format YUYV (offers RGB888, BGR888; lumar converts NV12, YUYV, BGR888, RGB888, "
+              "XBGR8888, XRGB8888)");
+    EXPECT_EQ(noConvertibleFormatReason({}, {}),
+              "has no viewfinder format lumar converts (offers none; lumar converts NV12, YUYV, BGR888, RGB888, "
+              "XBGR8888, XRGB8888)");
 }
 
 TEST(LibcameraFrame, ConfiguredFormatIsTakenWhenOfferedAndOnlyThen)
@@ -369,6 +405,184 @@ TEST(LibcameraFrame, ColorimetryFollowsTheStreamsColourSpace)
     libcamera::ColorSpace fullRec709 = libcamera::ColorSpace::Rec709;
     fullRec709.range = libcamera::ColorSpace::Range::Full;
     check(fullRec709, YCbCrMatrix::Bt709, true);
+}
+
+// Packed RGB: a test image whose red, green and blue differ at every pixel (so a swapped
+// channel cannot pass), an odd width (RGB has no chroma pairs), rows padded with garbage.
+constexpr int kRgbWidth = 37;
+constexpr int kRgbHeight = 11;
+
+std::array<uint8_t, 3> rgbAt(int x, int y)
+{
+    return {uint8_t((x * 7 + y * 3 + 1) % 256), uint8_t((x * 11 + y * 17 + 90) % 256),
+            uint8_t((x * 5 + y * 29 + 170) % 256)};
+}
+
+// The bytes of one pixel as drm_fourcc.h defines the format: the name gives the components
+// from the most significant end of a little-endian word ("[23:0] R:G:B little endian" for
+// RGB888, "[31:0] x:R:G:B" for XRGB8888), written here as that word and stored byte by byte.
+std::vector<uint8_t> drmPixelBytes(const libcamera::PixelFormat& format, std::array<uint8_t, 3> rgb, uint8_t filler)
+{
+    using namespace libcamera::formats;
+    const uint32_t r = rgb[0], g = rgb[1], b = rgb[2];
+    uint32_t word = 0;
+    size_t bytes = 3;
+    if (format == RGB888) {
+        word = r << 16 | g << 8 | b;
+    } else if (format == BGR888) {
+        word = b << 16 | g << 8 | r;
+    } else if (format == XRGB8888) {
+        word = uint32_t(filler) << 24 | r << 16 | g << 8 | b;
+        bytes = 4;
+    } else if (format == XBGR8888) {
+        word = uint32_t(filler) << 24 | b << 16 | g << 8 | r;
+        bytes = 4;
+    } else {
+        ADD_FAILURE() << "no DRM layout for " << format.toString();
+    }
+    std::vector<uint8_t> out;
+    for (size_t i = 0; i < bytes; ++i)
+        out.push_back(uint8_t(word >> (8 * i))); // little endian: least significant byte first
+    return out;
+}
+
+std::vector<uint8_t> packedRgbBytes(const libcamera::PixelFormat& format, size_t stride)
+{
+    std::vector<uint8_t> bytes(stride * kRgbHeight, 0xee); // the padding is garbage
+    for (int y = 0; y < kRgbHeight; ++y) {
+        size_t at = size_t(y) * stride;
+        for (int x = 0; x < kRgbWidth; ++x) {
+            for (const uint8_t byte : drmPixelBytes(format, rgbAt(x, y), uint8_t(0x5a + x)))
+                bytes[at++] = byte;
+        }
+    }
+    return bytes;
+}
+
+// The memory order spelled out once, as a check on drmPixelBytes itself: libcamera's RGB888
+// is B, G, R in memory and BGR888 is R, G, B.
+TEST(LibcameraFrame, DrmRgbNamesRunOppositeToTheBytesInMemory)
+{
+    using namespace libcamera::formats;
+    const std::array<uint8_t, 3> rgb{10, 20, 30};
+    EXPECT_EQ(drmPixelBytes(RGB888, rgb, 0), (std::vector<uint8_t>{30, 20, 10}));
+    EXPECT_EQ(drmPixelBytes(BGR888, rgb, 0), (std::vector<uint8_t>{10, 20, 30}));
+    EXPECT_EQ(drmPixelBytes(XRGB8888, rgb, 99), (std::vector<uint8_t>{30, 20, 10, 99}));
+    EXPECT_EQ(drmPixelBytes(XBGR8888, rgb, 99), (std::vector<uint8_t>{10, 20, 30, 99}));
+    // The fourccs are the DRM ones (drm_fourcc.h), which is what lets the names be read so.
+    EXPECT_EQ(RGB888.fourcc(), uint32_t('R' | 'G' << 8 | '2' << 16 | '4' << 24));
+    EXPECT_EQ(BGR888.fourcc(), uint32_t('B' | 'G' << 8 | '2' << 16 | '4' << 24));
+}
+
+TEST(LibcameraFrame, PackedRgbWithPaddedRowsBecomesExactRgbAndBt601Luma)
+{
+    using namespace libcamera::formats;
+    for (const libcamera::PixelFormat& format : {RGB888, BGR888, XRGB8888, XBGR8888}) {
+        SCOPED_TRACE(format.toString());
+        const size_t bytesPerPixel = format == RGB888 || format == BGR888 ? 3 : 4;
+        const size_t stride = kRgbWidth * bytesPerPixel + 13; // padded, and not a multiple of the pixel size
+        const std::vector<uint8_t> bytes = packedRgbBytes(format, stride);
+        const UniqueFd fd = memfdWith(bytes);
+        const auto buffer = bufferOf(fd, {{0, unsigned(bytes.size())}});
+        const DmabufMapping mapping(*buffer);
+        const LibcameraLayout layout{format, kRgbWidth, kRgbHeight, stride};
+        ASSERT_EQ(checkMappedImage(mapping, layout), "");
+        EXPECT_EQ(imageBytes(layout), stride * kRgbHeight);
+
+        Frame frame;
+        frame.ycbcr.layout = YCbCrLayout::Nv12; // stale from an earlier frame
+        // The converter is for YCbCr only; a limited-range one must not touch RGB values.
+        keepLibcameraPlanes(mapping, layout, YCbCrConverter(YCbCrColorimetry{}), frame);
+        EXPECT_TRUE(frame.ycbcr.empty()); // nothing kept for the GPU: the RGB image is the frame
+        ASSERT_EQ(frame.rgb.width, kRgbWidth);
+        ASSERT_EQ(frame.rgb.height, kRgbHeight);
+        ASSERT_EQ(frame.rgb.channels, 3);
+        ASSERT_EQ(frame.luma.width, kRgbWidth);
+        ASSERT_EQ(frame.luma.height, kRgbHeight);
+        ASSERT_EQ(frame.luma.channels, 1);
+        double worstLuma = 0.0;
+        for (int y = 0; y < kRgbHeight; ++y) {
+            for (int x = 0; x < kRgbWidth; ++x) {
+                const auto [r, g, b] = rgbAt(x, y);
+                const uint8_t* got = frame.rgb.at(x, y);
+                ASSERT_EQ(got[0], r) << x << "," << y;
+                ASSERT_EQ(got[1], g) << x << "," << y;
+                ASSERT_EQ(got[2], b) << x << "," << y;
+                // BT.601 luma weights in double precision; the frame's value is it rounded.
+                const double luma = 0.299 * r + 0.587 * g + 0.114 * b;
+                worstLuma = std::max(worstLuma, std::abs(frame.luma.row(y)[x] - luma));
+            }
+        }
+        EXPECT_LE(worstLuma, 0.5 + 1e-9);
+
+        Frame converted;
+        convertLibcameraImage(mapping, layout, YCbCrConverter(YCbCrColorimetry{YCbCrMatrix::Bt709, true}), converted);
+        EXPECT_EQ(converted.rgb.data, frame.rgb.data);
+        EXPECT_EQ(converted.luma.data, frame.luma.data);
+    }
+}
+
+TEST(LibcameraFrame, PrimariesOfPackedRgbLandInTheirChannels)
+{
+    using namespace libcamera::formats;
+    // One row: pure red, green, blue, white; RGB888's bytes are B, G, R.
+    const std::vector<uint8_t> bytes{0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255};
+    const UniqueFd fd = memfdWith(bytes);
+    const auto buffer = bufferOf(fd, {{0, unsigned(bytes.size())}});
+    const DmabufMapping mapping(*buffer);
+    Frame frame;
+    convertLibcameraImage(mapping, {RGB888, 4, 1, 12}, YCbCrConverter(YCbCrColorimetry{}), frame);
+    EXPECT_EQ(frame.rgb.data, (std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255}));
+    // round(0.299 * 255) = 76, round(0.587 * 255) = 150, round(0.114 * 255) = 29.
+    EXPECT_EQ(frame.luma.data, (std::vector<uint8_t>{76, 150, 29, 255}));
+    // The same bytes read as BGR888 (R, G, B in memory) are the other way round.
+    convertLibcameraImage(mapping, {BGR888, 4, 1, 12}, YCbCrConverter(YCbCrColorimetry{}), frame);
+    EXPECT_EQ(frame.rgb.data, (std::vector<uint8_t>{0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255}));
+    EXPECT_EQ(frame.luma.data, (std::vector<uint8_t>{29, 150, 76, 255}));
+}
+
+TEST(LibcameraFrame, PackedRgbBufferSizesAreChecked)
+{
+    using namespace libcamera::formats;
+    const size_t stride = kRgbWidth * 3 + 13;
+    const std::vector<uint8_t> bytes = packedRgbBytes(BGR888, stride);
+    const UniqueFd fd = memfdWith(bytes);
+    const auto whole = bufferOf(fd, {{0, unsigned(bytes.size())}});
+    const DmabufMapping mapping(*whole);
+    // An odd width is fine for RGB (it is not for YUYV).
+    EXPECT_EQ(checkMappedImage(mapping, {BGR888, kRgbWidth, kRgbHeight, stride}), "");
+    EXPECT_NE(checkMappedImage(mapping, {YUYV, kRgbWidth, kRgbHeight, stride}), "");
+    // One byte short of stride x height.
+    const auto shortBuffer = bufferOf(fd, {{0, unsigned(bytes.size() - 1)}});
+    EXPECT_EQ(checkMappedImage(DmabufMapping(*shortBuffer), {RGB888, kRgbWidth, kRgbHeight, stride}),
+              "plane 0 holds " + std::to_string(bytes.size() - 1) + " bytes, the image needs " +
+                  std::to_string(bytes.size()));
+    // A row narrower than its pixels: 3 bytes each for RGB888, 4 for XRGB8888.
+    EXPECT_NE(checkMappedImage(mapping, {RGB888, kRgbWidth, kRgbHeight, kRgbWidth * 3 - 1}).find("stride 110"),
+              std::string::npos);
+    EXPECT_EQ(checkMappedImage(mapping, {RGB888, kRgbWidth, kRgbHeight, kRgbWidth * 3}), "");
+    EXPECT_NE(checkMappedImage(mapping, {XRGB8888, kRgbWidth, kRgbHeight, kRgbWidth * 4 - 1}), "");
+    // 4 bytes a pixel need a bigger buffer than this BGR888 one for the same stride.
+    EXPECT_EQ(checkMappedImage(mapping, {XBGR8888, kRgbWidth, kRgbHeight, kRgbWidth * 4}).rfind("plane 0 holds", 0),
+              0u);
+    EXPECT_NE(checkMappedImage(mapping, {BGR888, 0, kRgbHeight, stride}), "");
+}
+
+// RGB buffers are never lent; should one be described all the same, it names no DRM format,
+// so the renderer cannot import it as a YCbCr frame.
+TEST(LibcameraFrame, PackedRgbBuffersDescribeNoDrmFormatForLending)
+{
+    const size_t stride = kRgbWidth * 3;
+    const std::vector<uint8_t> bytes = packedRgbBytes(libcamera::formats::RGB888, stride);
+    const UniqueFd fd = memfdWith(bytes);
+    const auto buffer = bufferOf(fd, {{0, unsigned(bytes.size())}});
+    const LibcameraBuffer lent(*buffer, DmabufMapping(*buffer),
+                               {libcamera::formats::RGB888, kRgbWidth, kRgbHeight, stride});
+    EXPECT_EQ(lent.drmFourcc(), 0u);
+    EXPECT_FALSE(lent.exported());
+    EXPECT_EQ(lent.planes()[0].size, bytes.size());
+    EXPECT_EQ(lent.planes()[1].data, nullptr);
+    EXPECT_EQ(lent.mapping().plane(0)[0], rgbAt(0, 0)[2]); // RGB888's first byte is blue
 }
 
 } // namespace

@@ -105,5 +105,35 @@ TEST(LibcameraSource, StreamsFramesFromARealCamera)
     }
 }
 
+// camera.convert = "gpu" with zero-copy: a YCbCr stream's frames carry planes (copied or
+// lent); a packed RGB stream (vimc offers nothing else) must still arrive as converted RGB,
+// never as planes or a lent buffer the renderer would take for YCbCr.
+TEST(LibcameraSource, AskedForGpuConversionEveryFrameIsEitherYcbcrPlanesOrRgb)
+{
+    if (!haveCameras())
+        GTEST_SKIP() << "no libcamera camera on this machine";
+    LibcameraOptions options;
+    options.width = 640;
+    options.height = 480;
+    options.rawYcbcr = true;
+    options.zeroCopy = true;
+    LibcameraSource source(options);
+    Frame frame;
+    for (int i = 0; i < 10; ++i) {
+        ASSERT_TRUE(source.next(frame));
+        EXPECT_EQ(frame.luma.width, source.width());
+        EXPECT_EQ(frame.luma.height, source.height());
+        if (frame.ycbcr.empty()) {
+            EXPECT_EQ(frame.ycbcr.buffer, nullptr);
+            EXPECT_EQ(frame.rgb.width, source.width());
+            EXPECT_EQ(frame.rgb.height, source.height());
+            EXPECT_EQ(frame.rgb.channels, 3);
+        } else {
+            EXPECT_EQ(frame.ycbcr.width, source.width());
+            EXPECT_EQ(frame.ycbcr.height, source.height());
+        }
+    }
+}
+
 } // namespace
 } // namespace lumar
