@@ -100,7 +100,7 @@ const IblMaps* EnvironmentProbes::objectMaps(int object) const
 
 void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& environment)
 {
-    pipeline_.renderMirror(environmentMaps_, [&](int face) {
+    pipeline_.renderMirror(environmentMaps_, nullptr, [&](int face) {
         pipeline_.drawSkybox(face, environment.equirect(), environment.equirectWidth(), 1.0f);
     });
     pipeline_.updateDerivedMaps(environmentMaps_);
@@ -176,8 +176,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
     const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
 
     auto start = Clock::now();
-    pipeline_.renderMirror(maps, [&](int face) {
-        pipeline_.copyFace(environmentMaps_, face);
+    pipeline_.renderMirror(maps, &environmentMaps_, [&](int face) {
         const glm::dmat3 faceFromCube = faceCameraFromCube(face);
         const glm::dmat4 faceFromCamera =
             glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);

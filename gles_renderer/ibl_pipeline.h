@@ -29,19 +29,24 @@ public:
     // Allocates the textures of one set (contents undefined until updated).
     [[nodiscard]] IblMaps createMaps() const;
 
-    // Renders the six faces of maps.mirror: binds each face with a depth buffer, clears
-    // both and calls drawFace(face), then builds the mip chain. drawFace draws in the face
-    // camera of cube_face_camera.h; the viewport covers the face.
-    void renderMirror(IblMaps& maps, const std::function<void(int face)>& drawFace) const;
+    // Renders the six faces of maps.mirror: starts each face from `backdrop`'s mirror map
+    // (the same size; the real environment's, every object map's backdrop, a copy being
+    // cheaper than drawing the skybox again) or from black where it is null, clears depth,
+    // calls drawFace(face), then builds the mip levels. drawFace draws in the face camera of
+    // cube_face_camera.h; the viewport and the scissor box cover the face, and it must
+    // leave both, the framebuffer binding and the scissor test as they are.
+    //
+    // The faces are drawn side by side into one 2D atlas, then copied into the cube (as are
+    // the derived maps): llvmpipe rasterises what is drawn into one framebuffer as one
+    // "scene", and ending one costs its worker threads a wake-up and a barrier each, which
+    // for 64-px faces cost more than their pixels (38 scenes per map before, 18 now, 12 of
+    // them glGenerateMipmap's). Copies between textures of one format are memcpys there,
+    // and a face per 64-px tile lets both threads share the work.
+    void renderMirror(IblMaps& maps, const IblMaps* backdrop, const std::function<void(int face)>& drawFace) const;
 
     // Draws the equirectangular real environment (linear, mipmapped 2D texture of the given
     // width) into the bound face, behind everything (no depth write).
     void drawSkybox(int face, GLuint equirect, int equirectWidth, float intensity) const;
-
-    // Copies face `face` of `source`'s mirror map (the same size) into the bound face: the
-    // real environment's own mirror map is every object map's backdrop, and a copy is
-    // cheaper than drawing the skybox again.
-    void copyFace(const IblMaps& source, int face) const;
 
     // SH projection, diffuse and glossy maps from maps.mirror.
     void updateDerivedMaps(IblMaps& maps) const;
@@ -55,11 +60,22 @@ public:
 
 private:
     struct Prefilter {
-        GlTexture samples; // RGBA32F, 1 row
+        GlBuffer samples; // the LobeSamples uniform block of phong_prefilter.frag
+        int count = 0;
         float lod = 0.0f;
     };
     Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
+    // Draws the six size-px faces of `cube` with `program` into the derived-map atlas
+    // (perFace sets per-face uniforms), then copies them into the cube's level 0.
     void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+    // Where face `face`'s cell starts in an atlas (both atlases share the layout).
+    [[nodiscard]] glm::ivec2 cellOrigin(int face) const;
+    // Copies the size-px square at cellOrigin(face) of the atlas behind `framebuffer` into
+    // level 0 of face `face` of `cube`, for every face.
+    void copyAtlasToCube(GLuint framebuffer, int size, GLuint cube) const;
+    // Runs `pass` with maps.mirror bound to kSourceUnit, reading the single level that
+    // LINEAR_MIPMAP_NEAREST would pick at `lod`.
+    void readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const;
     // The RGBM fallback of projectSH's sums: on the CPU, over the decoded mirror map.
     void projectShOnCpu(IblMaps& maps) const;
     // Pass 1 with `program` (its source bound to kSourceUnit), then pass 2 into `coefficients`.
@@ -79,18 +95,24 @@ private:
     GlProgram phongPrefilter_;
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
-    GLint prefilterEnvironmentFromFace_ = -1, prefilterLod_ = -1;
+    GLint prefilterEnvironmentFromFace_ = -1, prefilterLod_ = -1, prefilterSampleCount_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
     GlTexture partialSums_; // RGBA32F rows x 9
     Prefilter glossy1_;
     Prefilter glossy2_;
-    GlSampler nearestLevel_;
+    GlSampler singleLevel_;
     GlSampler nearestLevelWrapped_;
-    GlFramebuffer faceFramebuffer_;  // with depth, for mirror faces
-    GlFramebuffer plainFramebuffer_; // colour only, for derived maps
-    GlFramebuffer readFramebuffer_;  // the source of copyFace
-    GlRenderbuffer depth_;
+    GlFramebuffer plainFramebuffer_; // colour only: the SH sums
+    GlFramebuffer readFramebuffer_;  // a cube face as a copy's source
+    // Two atlases of 3 x 2 cells of max(64, largest map) px, one cell per cube face: the
+    // mirror faces (with depth), and the derived maps.
+    int cellSize_ = 64;
+    GlTexture mirrorAtlas_;
+    GlRenderbuffer mirrorAtlasDepth_;
+    GlFramebuffer mirrorAtlasFramebuffer_;
+    GlTexture derivedAtlas_;
+    GlFramebuffer derivedAtlasFramebuffer_;
 };
 
 } // namespace lumar

@@ -10,8 +10,14 @@ precision highp samplerCube;
 
 uniform mat3 uEnvironmentFromFace;
 uniform samplerCube uEnvironment;
-uniform sampler2D uSamples; // RGBA32F, 1 row: xyz around +z, w the normalised weight
-uniform float uLod;
+// xyz around +z, w the normalised weight. A uniform block, not a texture: every fragment
+// reads the same entry k, a uniform load instead of a texture fetch in the inner loop.
+// 1024 entries: 16 KB, GLES 3.0's smallest GL_MAX_UNIFORM_BLOCK_SIZE.
+layout(std140) uniform LobeSamples {
+    vec4 uSamples[1024];
+};
+uniform int uSampleCount;
+uniform float uLod; // where uEnvironment is mipmapped (IblPipeline moves its base level there)
 uniform bool uRgbm; // source and face are RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
@@ -25,10 +31,9 @@ void main()
     vec3 helper = abs(r.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
     vec3 t = normalize(cross(helper, r));
     vec3 b = cross(r, t);
-    int count = textureSize(uSamples, 0).x;
     vec3 sum = vec3(0.0);
-    for (int k = 0; k < count; ++k) {
-        vec4 s = texelFetch(uSamples, ivec2(k, 0), 0);
+    for (int k = 0; k < uSampleCount; ++k) {
+        vec4 s = uSamples[k];
         sum += decodeMapTexel(textureLod(uEnvironment, t * s.x + b * s.y + r * s.z, uLod), uRgbm) * s.w;
     }
     fragColor = encodeMapTexel(sum, uRgbm);
