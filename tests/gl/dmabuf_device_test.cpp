@@ -23,7 +23,6 @@
 #include <xf86drm.h>
 
 #include "capture/v4l2/v4l2_buffer.h"
-#include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/error.h"
 #include "core/unique_fd.h"
 #include "gles_renderer/background_pass.h"
@@ -32,7 +31,7 @@
 #include "gles_renderer/egl_context.h"
 #include "gles_renderer/frame_readback.h"
 #include "gles_renderer/render_target.h"
-#include "vcam/vcam_pattern.h"
+#include "ycbcr_test_frames.h"
 
 namespace lumar {
 namespace {
@@ -42,17 +41,7 @@ constexpr int kWidth = 322;
 constexpr int kHeight = 202;
 constexpr size_t kPadding = 6;
 
-struct Case {
-    YCbCrLayout layout;
-    YCbCrColorimetry colorimetry;
-};
-
-std::string describe(const Case& c)
-{
-    return std::string(c.layout == YCbCrLayout::Nv12 ? "NV12" : "YUYV") +
-           (c.colorimetry.matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601") +
-           (c.colorimetry.fullRange ? " full" : " limited");
-}
+using Case = test::YcbcrCase;
 
 // The display, a context on it and its DRM device, or why this machine cannot run the tests.
 struct Device {
@@ -178,27 +167,10 @@ DumbFrame makeDumbFrame(int drm, uint32_t pixelFormat, size_t minPitch, int rows
     return frame;
 }
 
-// Frame content as a driver writes it, at the buffer's pitch: colour bars, or random bytes
-// (footroom and headroom excursions included).
+// Colour bars or random bytes, written into the buffer at its pitch as a driver would.
 void fill(const DumbFrame& frame, const Case& c, bool random, unsigned seed)
 {
-    const bool nv12 = c.layout == YCbCrLayout::Nv12;
-    const size_t size = frame.pitch * size_t(kHeight) * (nv12 ? 3 : 2) / 2;
-    if (random) {
-        std::mt19937 engine(seed);
-        std::uniform_int_distribution<int> byte(0, 255);
-        for (size_t i = 0; i < size; ++i)
-            frame.bytes[i] = uint8_t(byte(engine));
-        return;
-    }
-    vcam::PatternFormat format;
-    format.pixelFormat = nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV;
-    format.width = kWidth;
-    format.height = kHeight;
-    format.bytesPerLine = frame.pitch;
-    format.bt709 = c.colorimetry.matrix == YCbCrMatrix::Bt709;
-    format.fullRange = c.colorimetry.fullRange;
-    vcam::drawPattern(format, int64_t(seed), frame.bytes);
+    test::fillYcbcrFrame(c, random, seed, kWidth, kHeight, frame.pitch, frame.bytes);
 }
 
 YCbCrImage lentImage(const DumbFrame& frame, const Case& c)
@@ -216,14 +188,7 @@ YCbCrImage lentImage(const DumbFrame& frame, const Case& c)
 
 Image8 cpuReference(const DumbFrame& frame, const Case& c)
 {
-    const YCbCrConverter converter(c.colorimetry);
-    Image8 rgb, luma;
-    if (c.layout == YCbCrLayout::Nv12)
-        converter.convertNv12(frame.bytes, frame.pitch, frame.bytes + frame.pitch * size_t(kHeight), frame.pitch,
-                              kWidth, kHeight, rgb, luma);
-    else
-        converter.convertYuyv(frame.bytes, frame.pitch, kWidth, kHeight, rgb, luma);
-    return rgb;
+    return test::cpuYcbcrReference(c, frame.bytes, frame.pitch, kWidth, kHeight);
 }
 
 // The background pass drawing into its own target, read back as the renderer reads frames.
@@ -243,20 +208,6 @@ struct Pass {
     }
 };
 
-// Worst difference per byte, and how many bytes differ at all.
-std::pair<int, size_t> compare(const Image8& out, const Image8& expected)
-{
-    EXPECT_EQ(out.data.size(), expected.data.size());
-    int worst = 0;
-    size_t off = 0;
-    for (size_t i = 0; i < std::min(out.data.size(), expected.data.size()); ++i) {
-        const int difference = std::abs(int(out.data[i]) - int(expected.data[i]));
-        worst = std::max(worst, difference);
-        off += difference != 0;
-    }
-    return {worst, off};
-}
-
 TEST(DmabufDeviceImport, EveryLayoutMatrixAndRangeMatchesTheCpuConverter)
 {
     LUMAR_DEVICE_OR_SKIP(device);
@@ -265,26 +216,23 @@ TEST(DmabufDeviceImport, EveryLayoutMatrixAndRangeMatchesTheCpuConverter)
     ASSERT_TRUE(pass.background.dmabufImporter()->usable()) << pass.background.dmabufImporter()->unavailableReason();
     unsigned seed = 1;
     uint64_t draws = 0;
-    for (YCbCrLayout layout : {YCbCrLayout::Nv12, YCbCrLayout::Yuyv})
-        for (YCbCrMatrix matrix : {YCbCrMatrix::Bt601, YCbCrMatrix::Bt709})
-            for (bool fullRange : {false, true}) {
-                const Case c{layout, {matrix, fullRange}};
-                const bool nv12 = layout == YCbCrLayout::Nv12;
-                const DumbFrame frame =
-                    makeDumbFrame(device.drm.get(), nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV,
-                                  size_t(kWidth) * (nv12 ? 1 : 2) + kPadding, nv12 ? kHeight * 3 / 2 : kHeight);
-                for (bool random : {false, true}) {
-                    fill(frame, c, random, seed++);
-                    const Image8 out = pass.draw(lentImage(frame, c));
-                    ++draws;
-                    // Drawn from the import, not by the fallback upload.
-                    ASSERT_EQ(pass.background.importedFrames(), draws) << describe(c);
-                    const auto [worst, off] = compare(out, cpuReference(frame, c));
-                    EXPECT_LE(worst, 1) << describe(c) << (random ? " random" : " bars");
-                    EXPECT_LT(double(off), 0.001 * double(out.data.size()))
-                        << describe(c) << (random ? " random" : " bars");
-                }
-            }
+    for (const Case& c : test::allYcbcrCases()) {
+        const bool nv12 = c.layout == YCbCrLayout::Nv12;
+        const DumbFrame frame =
+            makeDumbFrame(device.drm.get(), nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV,
+                          size_t(kWidth) * (nv12 ? 1 : 2) + kPadding, nv12 ? kHeight * 3 / 2 : kHeight);
+        for (bool random : {false, true}) {
+            fill(frame, c, random, seed++);
+            const Image8 out = pass.draw(lentImage(frame, c));
+            ++draws;
+            // Drawn from the import, not by the fallback upload.
+            ASSERT_EQ(pass.background.importedFrames(), draws) << test::describe(c);
+            const test::ByteDifference difference = test::compareBytes(out, cpuReference(frame, c));
+            EXPECT_LE(difference.worst, 1) << test::describe(c) << (random ? " random" : " bars");
+            EXPECT_LT(double(difference.differing), 0.001 * double(out.data.size()))
+                << test::describe(c) << (random ? " random" : " bars");
+        }
+    }
     ASSERT_TRUE(pass.background.dmabufImporter()->usable()) << pass.background.dmabufImporter()->unavailableReason();
 }
 
@@ -299,11 +247,11 @@ TEST(DmabufDeviceImport, TheTextureIsTheBufferItself)
     const DumbFrame frame = makeDumbFrame(device.drm.get(), V4L2_PIX_FMT_NV12, kWidth, kHeight * 3 / 2);
     fill(frame, c, false, 0);
     const Image8 first = pass.draw(lentImage(frame, c));
-    EXPECT_LE(compare(first, cpuReference(frame, c)).first, 1);
+    EXPECT_LE(test::compareBytes(first, cpuReference(frame, c)).worst, 1);
     fill(frame, c, true, 77); // the camera refilled the buffer
     const Image8 second = pass.draw(lentImage(frame, c));
-    EXPECT_LE(compare(second, cpuReference(frame, c)).first, 1);
-    EXPECT_GT(compare(second, first).second, second.data.size() / 2);
+    EXPECT_LE(test::compareBytes(second, cpuReference(frame, c)).worst, 1);
+    EXPECT_GT(test::compareBytes(second, first).differing, second.data.size() / 2);
     EXPECT_EQ(pass.background.importedFrames(), 2u);
     EXPECT_EQ(pass.background.dmabufImporter()->importedBuffers(), 1u);
 

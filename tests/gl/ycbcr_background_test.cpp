@@ -14,7 +14,7 @@
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/error.h"
 #include "gl_test_support.h"
-#include "vcam/vcam_pattern.h"
+#include "ycbcr_test_frames.h"
 
 namespace lumar {
 namespace {
@@ -25,17 +25,7 @@ constexpr int kWidth = 322;
 constexpr int kHeight = 202;
 constexpr size_t kPadding = 6;
 
-struct Case {
-    YCbCrLayout layout;
-    YCbCrColorimetry colorimetry;
-};
-
-std::string describe(const Case& c)
-{
-    return std::string(c.layout == YCbCrLayout::Nv12 ? "NV12" : "YUYV") +
-           (c.colorimetry.matrix == YCbCrMatrix::Bt709 ? " BT.709" : " BT.601") +
-           (c.colorimetry.fullRange ? " full" : " limited");
-}
+using Case = test::YcbcrCase;
 
 // A frame as the driver would deliver it: rows of `bytesPerLine`, NV12's chroma after Y.
 struct DriverFrame {
@@ -43,27 +33,13 @@ struct DriverFrame {
     size_t bytesPerLine = 0;
 };
 
+// Colour bars (the pattern's frame 3) or random bytes.
 DriverFrame makeFrame(const Case& c, bool random, unsigned seed)
 {
-    const bool nv12 = c.layout == YCbCrLayout::Nv12;
     DriverFrame frame;
-    frame.bytesPerLine = size_t(kWidth) * (nv12 ? 1 : 2) + kPadding;
-    frame.bytes.resize(frame.bytesPerLine * size_t(kHeight) * (nv12 ? 3 : 2) / 2);
-    if (random) {
-        std::mt19937 engine(seed);
-        std::uniform_int_distribution<int> byte(0, 255);
-        for (uint8_t& v : frame.bytes)
-            v = uint8_t(byte(engine));
-        return frame;
-    }
-    vcam::PatternFormat format;
-    format.pixelFormat = nv12 ? V4L2_PIX_FMT_NV12 : V4L2_PIX_FMT_YUYV;
-    format.width = kWidth;
-    format.height = kHeight;
-    format.bytesPerLine = frame.bytesPerLine;
-    format.bt709 = c.colorimetry.matrix == YCbCrMatrix::Bt709;
-    format.fullRange = c.colorimetry.fullRange;
-    vcam::drawPattern(format, 3, frame.bytes.data());
+    frame.bytesPerLine = size_t(kWidth) * (c.layout == YCbCrLayout::Nv12 ? 1 : 2) + kPadding;
+    frame.bytes.resize(test::ycbcrFrameBytes(c, frame.bytesPerLine, kHeight));
+    test::fillYcbcrFrame(c, random, random ? seed : 3, kWidth, kHeight, frame.bytesPerLine, frame.bytes.data());
     return frame;
 }
 
@@ -112,25 +88,7 @@ YCbCrImage lentPlanesOf(const Case& c, const DriverFrame& frame)
 
 Image8 cpuReference(const Case& c, const DriverFrame& frame)
 {
-    const YCbCrConverter converter(c.colorimetry);
-    Image8 rgb, luma;
-    if (c.layout == YCbCrLayout::Nv12)
-        converter.convertNv12(frame.bytes.data(), frame.bytesPerLine,
-                              frame.bytes.data() + frame.bytesPerLine * size_t(kHeight), frame.bytesPerLine, kWidth,
-                              kHeight, rgb, luma);
-    else
-        converter.convertYuyv(frame.bytes.data(), frame.bytesPerLine, kWidth, kHeight, rgb, luma);
-    return rgb;
-}
-
-std::vector<Case> allCases()
-{
-    std::vector<Case> cases;
-    for (YCbCrLayout layout : {YCbCrLayout::Nv12, YCbCrLayout::Yuyv})
-        for (YCbCrMatrix matrix : {YCbCrMatrix::Bt601, YCbCrMatrix::Bt709})
-            for (bool fullRange : {false, true})
-                cases.push_back({layout, {matrix, fullRange}});
-    return cases;
+    return test::cpuYcbcrReference(c, frame.bytes.data(), frame.bytesPerLine, kWidth, kHeight);
 }
 
 // Renders every case (colour bars, then random bytes) and compares with the CPU converter.
@@ -138,7 +96,7 @@ void expectMatchesCpu(SceneRenderer& renderer, bool lent = false)
 {
     const CameraIntrinsics k = defaultIntrinsics(kWidth, kHeight);
     unsigned seed = 1;
-    for (const Case& c : allCases())
+    for (const Case& c : test::allYcbcrCases())
         for (bool random : {false, true}) {
             const DriverFrame frame = makeFrame(c, random, seed++);
             const Image8 expected = cpuReference(c, frame);
@@ -148,16 +106,11 @@ void expectMatchesCpu(SceneRenderer& renderer, bool lent = false)
             ASSERT_EQ(out.width, kWidth);
             ASSERT_EQ(out.height, kHeight);
             ASSERT_EQ(out.channels, 3);
-            int worst = 0;
-            size_t off = 0;
-            for (size_t i = 0; i < out.data.size(); ++i) {
-                const int difference = std::abs(int(out.data[i]) - int(expected.data[i]));
-                worst = std::max(worst, difference);
-                off += difference != 0;
-            }
-            EXPECT_LE(worst, 1) << describe(c) << (random ? " random" : " bars");
+            const test::ByteDifference difference = test::compareBytes(out, expected);
+            EXPECT_LE(difference.worst, 1) << test::describe(c) << (random ? " random" : " bars");
             // Rounding ties aside the two agree: most bytes are identical.
-            EXPECT_LT(double(off), 0.001 * double(out.data.size())) << describe(c) << (random ? " random" : " bars");
+            EXPECT_LT(double(difference.differing), 0.001 * double(out.data.size()))
+                << test::describe(c) << (random ? " random" : " bars");
         }
 }
 

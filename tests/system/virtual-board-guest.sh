@@ -166,14 +166,25 @@ device = "auto"
 format = "auto"
 width = 640
 height = 480
+[camera.controls]
+# Controls vimc does not have (it offers brightness, contrast, saturation): each must be
+# reported and skipped, the stream must still run.
+exposure_us = 8000
+gain = 200
+white_balance_k = 4000
+power_line_hz = 50
 [output]
 path = "/tmp/libcamera.png"
 EOF
   t0=$(uptime_s)
   if lumar run --config /tmp/libcamera.toml --frames 30 >libcamera.log 2>&1 && cp /tmp/libcamera.png libcamera.png; then
     echo "libcamera: 30 frames in $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s (lumar run, start to exit)"
-    grep -h 'libcamera' libcamera.log | grep -v ' DEBUG ' | head -8 | sed 's/^/libcamera| /'
-    ok libcamera
+    grep -h 'libcamera' libcamera.log | grep -v ' DEBUG ' | head -12 | sed 's/^/libcamera| /'
+    if [ "$(grep -c 'has no .* control' libcamera.log)" -lt 3 ]; then
+      failed libcamera "the controls vimc lacks were not reported (libcamera.log)"
+    else
+      ok libcamera
+    fi
   else
     tail -8 libcamera.log
     failed libcamera "lumar run with source = libcamera failed (libcamera.log)"
