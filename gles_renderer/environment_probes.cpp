@@ -85,6 +85,28 @@ bool sameScene(const std::vector<glm::dmat4>& a, const std::vector<glm::dmat4>& 
     return true;
 }
 
+// Phantom layers are reused while every phantom stays within this of where the layer shows
+// it: floating-point noise of poses composed from the same marker, far below a texel.
+constexpr double kLayerToleranceMetres = 1e-6;
+constexpr double kLayerLinearTolerance = 1e-6;
+
+bool samePhantoms(const std::vector<std::pair<int, glm::dmat4>>& a, const std::vector<std::pair<int, glm::dmat4>>& b)
+{
+    if (a.size() != b.size())
+        return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        if (a[i].first != b[i].first)
+            return false;
+        const glm::dmat4 &m = a[i].second, &n = b[i].second;
+        for (int c = 0; c < 3; ++c)
+            if (glm::length(glm::dvec3(m[c] - n[c])) > kLayerLinearTolerance * glm::length(glm::dvec3(m[c])))
+                return false;
+        if (glm::length(glm::dvec3(m[3] - n[3])) > kLayerToleranceMetres)
+            return false;
+    }
+    return true;
+}
+
 } // namespace
 
 EnvironmentProbes::EnvironmentProbes(const EnvironmentMapOptions& options)
@@ -108,6 +130,7 @@ void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& enviro
     // Every object's maps show the old environment: render them again before use.
     probes_.clear();
     history_.clear();
+    phantomLayers_.clear();
     checkGlError("building the real environment's maps");
 }
 
@@ -175,8 +198,9 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
     const int size = pipeline_.settings().mirrorSize;
     const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
 
-    auto start = Clock::now();
-    pipeline_.renderMirror(maps, &environmentMaps_, [&](int face) {
+    // Draws the items (all but the owner, or the phantoms alone) into face `face`, the
+    // phantoms shaded or into depth alone (MeshPass::Phantoms).
+    const auto drawFace = [&](int face, bool phantomsOnly, MeshPass::Phantoms phantoms) {
         const glm::dmat3 faceFromCube = faceCameraFromCube(face);
         const glm::dmat4 faceFromCamera =
             glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
@@ -185,7 +209,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         faceItems_.clear();
         faceMaps_.clear();
         for (size_t i = 0; i < items.size(); ++i) {
-            if (i == owner)
+            if (i == owner || (phantomsOnly && !items[i].phantom))
                 continue;
             DrawItem item = items[i];
             item.cameraFromModel = faceFromCamera * item.cameraFromModel;
@@ -203,8 +227,38 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
         // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
         frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 0.0f);
-        meshes.draw(frame, models, faceItems_, faceMaps_, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Proxy);
-    });
+        meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy,
+                    faceIntrinsics(size).fx);
+    };
+
+    auto start = Clock::now();
+    // The phantoms as the layer would show them now, in the environment frame about the centre.
+    phantomScene_.clear();
+    const glm::dmat4 environmentFromCentre =
+        glm::dmat4(environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
+    for (const DrawItem& item : items)
+        if (item.phantom)
+            phantomScene_.emplace_back(item.model, environmentFromCentre * item.cameraFromModel);
+    const IblMaps* backdrop = &environmentMaps_;
+    if (!phantomScene_.empty()) {
+        PhantomLayer& layer = phantomLayers_[items[owner].object];
+        if (!samePhantoms(layer.phantoms, phantomScene_)) {
+            layer.phantoms = phantomScene_;
+            layer.drawn = false;
+        } else {
+            if (!layer.drawn) {
+                if (!layer.maps.mirror)
+                    layer.maps = pipeline_.createMaps();
+                pipeline_.renderMirror(layer.maps, &environmentMaps_,
+                                       [&](int face) { drawFace(face, true, MeshPass::Phantoms::Shaded); });
+                layer.drawn = true;
+            }
+            backdrop = &layer.maps;
+        }
+    }
+    const MeshPass::Phantoms phantoms =
+        backdrop == &environmentMaps_ ? MeshPass::Phantoms::Shaded : MeshPass::Phantoms::DepthOnly;
+    pipeline_.renderMirror(maps, backdrop, [&](int face) { drawFace(face, false, phantoms); });
     finishIf(profile);
     stats.environmentMapsMs += millisecondsSince(start);
 

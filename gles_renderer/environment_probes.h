@@ -7,6 +7,7 @@
 
 #include <map>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "gles_renderer/environment_lighting.h"
@@ -37,6 +38,7 @@ public:
     {
         probes_.clear();
         history_.clear();
+        phantomLayers_.clear();
     }
 
 private:
@@ -57,7 +59,23 @@ private:
         int bouncesLeft = 0;
     };
     std::map<int, History> history_;
-    std::vector<glm::dmat4> scene_; // this frame's scene in the environment frame
+    // Per object: the skybox with the phantoms drawn over it, as seen from the object's
+    // centre, the backdrop of its map while the phantoms stay where they were relative to
+    // it. A phantom is a large shaded surface (a table fills a hemisphere of the map) lit by
+    // the real environment's maps alone, so it looks the same until it moves relative to
+    // the centre or the environment changes; each update then draws it into depth only
+    // (it still hides the neighbours behind it) instead of shading thousands of texels.
+    // The layer is drawn once the phantoms have stood still for two updates: phantoms that
+    // keep moving relative to the object are shaded into its map directly, as before. (Were
+    // phantoms ever textured with the camera image, the layer would be stale every frame.)
+    struct PhantomLayer {
+        IblMaps maps; // only the mirror map is used
+        bool drawn = false;
+        std::vector<std::pair<int, glm::dmat4>> phantoms; // model, environment-frame pose relative to the centre
+    };
+    std::map<int, PhantomLayer> phantomLayers_;            // by DrawItem::object
+    std::vector<std::pair<int, glm::dmat4>> phantomScene_; // per-probe scratch
+    std::vector<glm::dmat4> scene_;                        // this frame's scene in the environment frame
     long frame_ = 0;
     size_t roundRobin_ = 0;
     double probeCostMs_ = 0.0; // running mean cost of one probe (budget policy)

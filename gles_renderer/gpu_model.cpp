@@ -1,5 +1,6 @@
 #include "gles_renderer/gpu_model.h"
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -16,9 +17,20 @@
 namespace lumar {
 namespace {
 
-// Grid cells along a model's longest side for its environment-map stand-in: a neighbour in
-// a 64-pixel face rarely spans more pixels than that.
-constexpr int kProxyCellsAlongModel = 48;
+// The stand-ins' grid sizes, finest first; each two thirds to three quarters of the one
+// before, so the chosen level's cells rarely span much less than kProxyMaxCellPixels.
+constexpr int kProxyLevelCells[] = {kProxyMaxCells, 32, 24, 16, 12, 8};
+// A coarser level is kept only where it removes at least this share of the triangles of the
+// last level kept: a cube stays one level, a sphere seen small still gets coarser ones.
+constexpr double kProxyMinTriangleSaving = 0.2;
+
+size_t triangleCount(const GltfModel& model)
+{
+    size_t count = 0;
+    for (const GltfPrimitive& p : model.primitives)
+        count += p.indices.size() / 3;
+    return count;
+}
 
 struct Vertex {
     glm::vec3 position;
@@ -199,11 +211,31 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
     for (const GltfPrimitive& primitive : model.primitives)
         if (!primitive.indices.empty())
             gpu.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
-    for (const GltfPrimitive& primitive : makeProxyModel(model, kProxyCellsAlongModel).primitives)
-        if (!primitive.indices.empty())
-            gpu.proxyPrimitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    size_t keptTriangles = 0;
+    for (const int cells : kProxyLevelCells) {
+        const GltfModel proxy = makeProxyModel(model, cells);
+        const size_t triangles = triangleCount(proxy);
+        if (!gpu.proxyLevels.empty() && double(triangles) > (1.0 - kProxyMinTriangleSaving) * double(keptTriangles))
+            continue;
+        keptTriangles = triangles;
+        GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
+        level.cells = cells;
+        for (const GltfPrimitive& primitive : proxy.primitives)
+            if (!primitive.indices.empty())
+                level.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    }
     checkGlError("uploading a model");
     return gpu;
+}
+
+const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels)
+{
+    // Coarsest first: the first level whose cells are small enough.
+    if (std::isfinite(modelPixels) && modelPixels > 0.0)
+        for (auto level = model.proxyLevels.rbegin(); level != model.proxyLevels.rend(); ++level)
+            if (modelPixels / double(level->cells) <= kProxyMaxCellPixels)
+                return *level;
+    return model.proxyLevels.front();
 }
 
 } // namespace lumar

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -100,7 +101,8 @@ MeshPass::MeshPass()
 }
 
 void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail) const
+                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail,
+                    double focalPixels) const
 {
     if (items.empty())
         return;
@@ -120,7 +122,7 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         for (size_t i = 0; i < items.size(); ++i)
             if (int(i) != skip && items[i].phantom)
-                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1, detail);
+                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1, detail, focalPixels);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     // Nearest first: the depth test then rejects hidden fragments before they are shaded.
@@ -132,7 +134,8 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     StateCache state;
     glUseProgram(program_.name());
     for (const auto& [depth, i] : order_)
-        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail);
+        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail,
+                 focalPixels);
     glBindVertexArray(0);
 }
 
@@ -143,15 +146,30 @@ double MeshPass::centreDepth(const DrawItem& item, const std::vector<GpuModel>& 
     return (item.cameraFromModel * glm::dvec4(centre, 1.0)).z;
 }
 
+double MeshPass::modelPixels(const DrawItem& item, const GpuModel& model, double focalPixels)
+{
+    const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
+    const glm::dmat3 linear(item.cameraFromModel);
+    const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+    const double distance = glm::length(glm::dvec3(item.cameraFromModel * glm::dvec4(centre, 1.0)));
+    if (distance <= 0.5 * scale * glm::length(extent))
+        return std::numeric_limits<double>::infinity();
+    return focalPixels * scale * std::max({extent.x, extent.y, extent.z}) / distance;
+}
+
 void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
-                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation,
-                        Detail detail) const
+                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail,
+                        double focalPixels) const
 {
     const bool shaded = normalFromMeshLocation >= 0;
     if (shaded)
         state.bindMaps(maps);
     const GpuModel& model = models[size_t(item.model)];
-    for (const GpuPrimitive& primitive : detail == Detail::Proxy ? model.proxyPrimitives : model.primitives) {
+    const std::vector<GpuPrimitive>& primitives =
+        detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
+                                : model.primitives;
+    for (const GpuPrimitive& primitive : primitives) {
         // Composed in double precision: model matrices may carry large translations.
         const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
         const glm::dmat3 linear(cameraFromMesh);

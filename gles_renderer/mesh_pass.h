@@ -38,17 +38,24 @@ public:
     // `skip`: an item index not to draw (an environment map's owner), or -1.
     // `phantoms`: Shaded draws phantom items like the rest (environment maps); DepthOnly
     // draws them first into depth alone (the frame: the camera image shows them).
-    // `detail`: Full meshes (the frame) or their clustered Proxy stand-ins (environment maps).
+    // `detail`: Full meshes (the frame) or their clustered Proxy stand-ins (environment maps),
+    // each item's level chosen by proxyLevelFor from its size in pixels: `focalPixels` is
+    // the view's focal length in pixels (<= 0: unknown, the finest levels).
     enum class Phantoms { Shaded, DepthOnly };
     enum class Detail { Full, Proxy };
     void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
               std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded,
-              Detail detail = Detail::Full) const;
+              Detail detail = Detail::Full, double focalPixels = 0.0) const;
+
+    // How many pixels the longest side of `item`'s model spans, seen at its bounding-box
+    // centre's distance with focal length `focalPixels`; infinite where the camera is inside
+    // its bounding sphere.
+    static double modelPixels(const DrawItem& item, const GpuModel& model, double focalPixels);
 
 private:
     // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
     void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
-                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail) const;
+                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels) const;
 
     // Depth along the view of the item's bounding-box centre (draw order).
     static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
