@@ -82,6 +82,13 @@ std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBas
     return {};
 }
 
+std::string dmabufImportUnavailableReason(const EglDisplay& display, DmabufOrigin origin)
+{
+    return dmabufImportUnavailableReason(display.hasExtension("EGL_EXT_image_dma_buf_import"),
+                                         display.hasExtension("EGL_KHR_image_base"), hasGlExtension("GL_OES_EGL_image"),
+                                         display.driverName(), origin);
+}
+
 EglImage::EglImage(EglImage&& other) noexcept
     : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), image_(std::exchange(other.image_, EGL_NO_IMAGE_KHR)),
       destroy_(std::exchange(other.destroy_, nullptr))
@@ -139,9 +146,7 @@ void GlFence::reset()
 
 DmabufImporter::DmabufImporter(const EglDisplay& display, DmabufOrigin origin) : display_(display.handle())
 {
-    reason_ = dmabufImportUnavailableReason(display.hasExtension("EGL_EXT_image_dma_buf_import"),
-                                            display.hasExtension("EGL_KHR_image_base"),
-                                            hasGlExtension("GL_OES_EGL_image"), display.driverName(), origin);
+    reason_ = dmabufImportUnavailableReason(display, origin);
     if (reason_.empty()) {
         createImage_ = reinterpret_cast<PFNEGLCREATEIMAGEKHRPROC>(eglGetProcAddress("eglCreateImageKHR"));
         destroyImage_ = reinterpret_cast<PFNEGLDESTROYIMAGEKHRPROC>(eglGetProcAddress("eglDestroyImageKHR"));

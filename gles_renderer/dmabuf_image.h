@@ -69,6 +69,8 @@ enum class DmabufOrigin { OtherDevice, RenderDevice };
 std::string dmabufImportUnavailableReason(bool eglDmaBufImport, bool eglImageBase, bool glEglImage,
                                           std::string_view driverName = {},
                                           DmabufOrigin origin = DmabufOrigin::OtherDevice);
+// The same for `display` and the GLES context current now (its extensions, its driver).
+std::string dmabufImportUnavailableReason(const EglDisplay& display, DmabufOrigin origin = DmabufOrigin::OtherDevice);
 
 // An EGLImage, destroyed with its display's eglDestroyImageKHR. Move-only.
 class EglImage {

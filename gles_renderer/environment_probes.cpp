@@ -71,17 +71,23 @@ void describeScene(std::span<const DrawItem> items, const EnvironmentLighting& e
         m[3] = glm::dvec4(glm::dvec3(m[3] - origin), 1.0);
 }
 
+// Whether pose `b` is within `linearTolerance` (relative, per column of the linear part) and
+// `metres` (translation) of pose `a`.
+bool posesClose(const glm::dmat4& a, const glm::dmat4& b, double linearTolerance, double metres)
+{
+    for (int c = 0; c < 3; ++c)
+        if (glm::length(glm::dvec3(a[c] - b[c])) > linearTolerance * glm::length(glm::dvec3(a[c])))
+            return false;
+    return glm::length(glm::dvec3(a[3] - b[3])) <= metres;
+}
+
 bool sameScene(const std::vector<glm::dmat4>& a, const std::vector<glm::dmat4>& b)
 {
     if (a.size() != b.size())
         return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        for (int c = 0; c < 3; ++c)
-            if (glm::length(glm::dvec3(a[i][c] - b[i][c])) > kSceneLinearTolerance * glm::length(glm::dvec3(a[i][c])))
-                return false;
-        if (glm::length(glm::dvec3(a[i][3] - b[i][3])) > kSceneTranslationToleranceMetres)
+    for (size_t i = 0; i < a.size(); ++i)
+        if (!posesClose(a[i], b[i], kSceneLinearTolerance, kSceneTranslationToleranceMetres))
             return false;
-    }
     return true;
 }
 
@@ -94,16 +100,10 @@ bool samePhantoms(const std::vector<std::pair<int, glm::dmat4>>& a, const std::v
 {
     if (a.size() != b.size())
         return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        if (a[i].first != b[i].first)
+    for (size_t i = 0; i < a.size(); ++i)
+        if (a[i].first != b[i].first ||
+            !posesClose(a[i].second, b[i].second, kLayerLinearTolerance, kLayerToleranceMetres))
             return false;
-        const glm::dmat4 &m = a[i].second, &n = b[i].second;
-        for (int c = 0; c < 3; ++c)
-            if (glm::length(glm::dvec3(m[c] - n[c])) > kLayerLinearTolerance * glm::length(glm::dvec3(m[c])))
-                return false;
-        if (glm::length(glm::dvec3(m[3] - n[3])) > kLayerToleranceMetres)
-            return false;
-    }
     return true;
 }
 

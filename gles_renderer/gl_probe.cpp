@@ -59,9 +59,7 @@ GlInfo probeGl()
         info.glExtensions.emplace_back(name, hasGlExtension(name));
     info.driverName = display->driverName();
     info.drmDevice = display->drmDeviceFile();
-    info.cameraImport = dmabufImportUnavailableReason(display->hasExtension("EGL_EXT_image_dma_buf_import"),
-                                                      display->hasExtension("EGL_KHR_image_base"),
-                                                      hasGlExtension("GL_OES_EGL_image"), display->driverName());
+    info.cameraImport = dmabufImportUnavailableReason(*display);
     return info;
 }
 

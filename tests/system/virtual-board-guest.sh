@@ -9,6 +9,18 @@ status=0
 ok() { echo "LUMAR-VB: step $1 ok"; }
 failed() { echo "LUMAR-VB: step $1 FAILED: $2"; status=1; }
 uptime_s() { cut -d' ' -f1 /proc/uptime; }
+# Runs `lumar run --config /tmp/NAME.toml --frames FRAMES` (its [output] path must be
+# /tmp/NAME.png) and leaves NAME.log and NAME.png here for the host, saying how long it took;
+# on failure shows the log's tail and returns non-zero.
+still() { # NAME FRAMES
+  t0=$(uptime_s)
+  if lumar run --config "/tmp/$1.toml" --frames "$2" >"$1.log" 2>&1 && cp "/tmp/$1.png" "$1.png"; then
+    echo "$1: $2 frames in $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s (lumar run, start to exit)"
+    return 0
+  fi
+  tail -8 "$1.log"
+  return 1
+}
 
 # --- probe: vivid's capture node with its formats, and the DRM device ------------------------
 lumar probe >probe.txt 2>&1
@@ -29,12 +41,9 @@ board = "qemu-virtual-board"
 [output]
 path = "/tmp/capture.png"
 EOF
-t0=$(uptime_s)
-if lumar run --config /tmp/capture.toml --frames 60 >capture.log 2>&1 && cp /tmp/capture.png capture.png; then
-  echo "capture: 60 frames in $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s (lumar run, start to exit)"
+if still capture 60; then
   ok capture
 else
-  tail -5 capture.log
   failed capture "lumar run failed (capture.log)"
 fi
 
@@ -128,8 +137,7 @@ convert = "gpu"
 [output]
 path = "/tmp/dmabuf-camera.png"
 EOF
-  if lumar run --config /tmp/dmabuf-camera.toml --frames 30 >dmabuf-camera.log 2>&1 &&
-     cp /tmp/dmabuf-camera.png dmabuf-camera.png; then
+  if still dmabuf-camera 30; then
     grep -h 'dmabuf' dmabuf-camera.log | sed 's/^/dmabuf| /'
     if grep -q 'no dmabuf import (the EGL driver is kms_swrast' dmabuf-camera.log; then
       ok dmabuf-camera
@@ -137,7 +145,6 @@ EOF
       failed dmabuf-camera "lumar did not refuse vivid's dmabufs on kms_swrast (dmabuf-camera.log)"
     fi
   else
-    tail -5 dmabuf-camera.log
     failed dmabuf-camera "lumar run failed with vivid on the vgem display (dmabuf-camera.log)"
   fi
 fi
@@ -176,9 +183,7 @@ power_line_hz = 50
 [output]
 path = "/tmp/libcamera.png"
 EOF
-  t0=$(uptime_s)
-  if lumar run --config /tmp/libcamera.toml --frames 30 >libcamera.log 2>&1 && cp /tmp/libcamera.png libcamera.png; then
-    echo "libcamera: 30 frames in $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN { printf "%.1f", b - a }') s (lumar run, start to exit)"
+  if still libcamera 30; then
     grep -h 'libcamera' libcamera.log | grep -v ' DEBUG ' | head -12 | sed 's/^/libcamera| /'
     if [ "$(grep -c 'has no .* control' libcamera.log)" -lt 3 ]; then
       failed libcamera "the controls vimc lacks were not reported (libcamera.log)"
@@ -186,7 +191,6 @@ EOF
       ok libcamera
     fi
   else
-    tail -8 libcamera.log
     failed libcamera "lumar run with source = libcamera failed (libcamera.log)"
   fi
 fi

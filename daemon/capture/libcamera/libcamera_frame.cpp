@@ -81,6 +81,15 @@ const PackedRgb* packedRgbOf(const libcamera::PixelFormat& format)
     return nullptr;
 }
 
+// "NV12, YUYV, …"
+std::string formatNames(const std::vector<libcamera::PixelFormat>& formats)
+{
+    std::string names;
+    for (const libcamera::PixelFormat& format : formats)
+        names += (names.empty() ? "" : ", ") + format.toString();
+    return names;
+}
+
 } // namespace
 
 const std::vector<libcamera::PixelFormat>& convertibleLibcameraFormats()
@@ -101,18 +110,13 @@ bool isPackedRgbLibcameraFormat(const libcamera::PixelFormat& format)
 
 std::string convertibleLibcameraFormatNames()
 {
-    std::string names;
-    for (const libcamera::PixelFormat& format : convertibleLibcameraFormats())
-        names += (names.empty() ? "" : ", ") + format.toString();
-    return names;
+    return formatNames(convertibleLibcameraFormats());
 }
 
 std::string noConvertibleFormatReason(const std::vector<libcamera::PixelFormat>& offered,
                                       const libcamera::PixelFormat& required)
 {
-    std::string offeredNames;
-    for (const libcamera::PixelFormat& format : offered)
-        offeredNames += (offeredNames.empty() ? "" : ", ") + format.toString();
+    const std::string offeredNames = formatNames(offered);
     return (required.isValid() ? "does not offer camera.format " + required.toString()
                                : std::string("has no viewfinder format lumar converts")) +
            " (offers " + (offeredNames.empty() ? "none" : offeredNames) + "; lumar converts " +
