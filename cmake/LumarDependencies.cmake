@@ -5,7 +5,6 @@ find_package(Threads REQUIRED)
 find_package(glm REQUIRED CONFIG)
 find_package(TinyGLTF REQUIRED CONFIG)
 find_package(tomlplusplus REQUIRED CONFIG)
-find_package(GTest REQUIRED)
 
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)

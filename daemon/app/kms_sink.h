@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "config/config.h"
-#include "gles_renderer/kms_display.h"
+#include "gles_renderer/display/kms_display.h"
 
 namespace lumar {
 

@@ -6,14 +6,15 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "capture/factory/capture_factory.h"
 #include "capture/prefetching_source.h"
+#include "config/material_sidecar.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "gles_renderer/builtin_shapes.h"
-#include "gles_renderer/environment_map.h"
-#include "gles_renderer/gl_probe.h"
-#include "gles_renderer/gltf_model.h"
-#include "gles_renderer/material_sidecar.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/environment_map.h"
+#include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/gl/gl_probe.h"
 #include "object_placement.h"
 #include "tracking/calibration_io.h"
 
@@ -84,11 +85,11 @@ GltfModel loadObjectModel(const ObjectConfig& object)
                            ? makeBuiltinShape(std::string_view(model).substr(kBuiltinModelPrefix.size()))
                            : loadGltfModel(object.model);
     if (!object.materials.empty())
-        applyMaterialSidecar(loaded, loadMaterialSidecar(object.materials));
+        applyMaterialOverrides(loaded, loadMaterialSidecar(object.materials));
     if (!object.material.empty()) {
-        MaterialSidecar everything;
+        MaterialOverrides everything;
         everything.materials["*"].preset = object.material;
-        applyMaterialSidecar(loaded, everything);
+        applyMaterialOverrides(loaded, everything);
     }
     return loaded;
 }

@@ -41,10 +41,4 @@ struct CameraStreamOptions {
     bool zeroCopy = false;
 };
 
-// The stream options [camera] asks for.
-CameraStreamOptions cameraStreamOptions(const CameraConfig& config);
-
-// Opens the source the config names. Throws InputError for a bad path or file.
-std::unique_ptr<CaptureSource> openCaptureSource(const CameraConfig& config);
-
 } // namespace lumar

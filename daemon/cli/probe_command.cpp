@@ -10,8 +10,8 @@
 #include "command_line.h"
 #include "commands.h"
 #include "core/error.h"
-#include "gles_renderer/drm_probe.h"
-#include "gles_renderer/gl_probe.h"
+#include "gles_renderer/display/drm_probe.h"
+#include "gles_renderer/gl/gl_probe.h"
 
 namespace lumar {
 namespace {

@@ -9,12 +9,12 @@
 #include <iterator>
 #include <set>
 
+#include "config/material_sidecar.h"
 #include "config/toml_reader.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "gles_renderer/builtin_shapes.h"
-#include "gles_renderer/lafortune_material.h"
-#include "gles_renderer/material_sidecar.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/lafortune_material.h"
 
 namespace lumar {
 namespace {

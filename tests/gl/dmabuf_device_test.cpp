@@ -25,12 +25,12 @@
 #include "capture/v4l2/v4l2_buffer.h"
 #include "core/error.h"
 #include "core/unique_fd.h"
-#include "gles_renderer/background_pass.h"
-#include "gles_renderer/dmabuf_image.h"
-#include "gles_renderer/drm_device.h"
-#include "gles_renderer/egl_context.h"
-#include "gles_renderer/frame_readback.h"
-#include "gles_renderer/render_target.h"
+#include "gles_renderer/display/drm_device.h"
+#include "gles_renderer/gl/dmabuf_image.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/frame_readback.h"
+#include "gles_renderer/gl/render_target.h"
+#include "gles_renderer/scene/background_pass.h"
 #include "ycbcr_test_frames.h"
 
 namespace lumar {

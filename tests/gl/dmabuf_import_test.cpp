@@ -1,4 +1,4 @@
-// Zero-copy camera frames in the renderer (gles_renderer/dmabuf_image.h): the EGL image each
+// Zero-copy camera frames in the renderer (gles_renderer/gl/dmabuf_image.h): the EGL image each
 // plane becomes, the decision whether a display can import at all, and the plain-upload
 // fallback. Here (llvmpipe on the surfaceless platform) the display has no
 // EGL_EXT_image_dma_buf_import, so the import itself cannot run: the tests check that this is
@@ -16,8 +16,8 @@
 
 #include "capture/v4l2/v4l2_buffer.h"
 #include "core/error.h"
-#include "gles_renderer/dmabuf_image.h"
-#include "gles_renderer/egl_context.h"
+#include "gles_renderer/gl/dmabuf_image.h"
+#include "gles_renderer/gl/egl_context.h"
 
 namespace lumar {
 namespace {

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/egl_context.h"
+#include "gles_renderer/gl/egl_context.h"
 
 namespace lumar {
 namespace {

@@ -9,14 +9,14 @@
 
 #include "gl_readback.h"
 #include "gl_test_support.h"
-#include "gles_renderer/builtin_shapes.h"
-#include "gles_renderer/camera_projection.h"
-#include "gles_renderer/cube_face_camera.h"
-#include "gles_renderer/gpu_model.h"
-#include "gles_renderer/gpu_texture.h"
-#include "gles_renderer/ibl_pipeline.h"
-#include "gles_renderer/lafortune_material.h"
-#include "gles_renderer/mesh_pass.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/lafortune_material.h"
+#include "gles_renderer/gl/gpu_texture.h"
+#include "gles_renderer/ibl/cube_face_camera.h"
+#include "gles_renderer/ibl_gpu/ibl_pipeline.h"
+#include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/mesh_pass.h"
 
 namespace lumar {
 namespace {

@@ -8,8 +8,8 @@
 #include <GLES3/gl3.h>
 
 #include "core/image.h"
-#include "gles_renderer/cube_map.h"
-#include "gles_renderer/gl_object.h"
+#include "gles_renderer/gl/gl_object.h"
+#include "gles_renderer/ibl/cube_map.h"
 
 namespace lumar::test {
 

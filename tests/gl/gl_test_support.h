@@ -15,8 +15,8 @@
 #include "core/camera_model.h"
 #include "core/error.h"
 #include "core/image.h"
-#include "gles_renderer/gltf_model.h"
-#include "gles_renderer/scene_renderer.h"
+#include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/scene/scene_renderer.h"
 
 namespace lumar::test {
 

@@ -18,11 +18,11 @@
 #include "core/error.h"
 #include "gl_readback.h"
 #include "gl_test_support.h"
-#include "gles_renderer/egl_context.h"
-#include "gles_renderer/environment_lighting.h"
-#include "gles_renderer/environment_map.h"
-#include "gles_renderer/ibl_pipeline.h"
-#include "gles_renderer/sh_projection.h"
+#include "gles_renderer/assets/environment_map.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/ibl/sh_projection.h"
+#include "gles_renderer/ibl_gpu/environment_lighting.h"
+#include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 
 namespace lumar {
 namespace {

@@ -1,5 +1,5 @@
 // shaders_es/lafortune.glsl, as mesh.frag runs it, against its CPU twin
-// (gles_renderer/lafortune_shading.h) over a grid of view directions and parameters: the
+// (gles_renderer/ibl/lafortune_shading.h) over a grid of view directions and parameters: the
 // lobe's peak direction and magnitude, the Fresnel factor, the glossiness that selects the
 // maps and the weight of the map lookup, with and without the tangent rotation.
 #include <cmath>
@@ -13,9 +13,9 @@
 #include "core/error.h"
 #include "embedded_shaders.h"
 #include "gl_readback.h"
-#include "gles_renderer/egl_context.h"
-#include "gles_renderer/gl_check.h"
-#include "gles_renderer/lafortune_shading.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/ibl/lafortune_shading.h"
 
 namespace lumar {
 namespace {

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "gl_test_support.h"
-#include "gles_renderer/builtin_shapes.h"
+#include "gles_renderer/assets/builtin_shapes.h"
 
 namespace lumar {
 namespace {

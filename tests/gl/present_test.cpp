@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "gl_test_support.h"
-#include "gles_renderer/egl_context.h"
-#include "gles_renderer/window_target.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/window_target.h"
 
 namespace lumar {
 namespace {

@@ -6,8 +6,8 @@
 
 #include "core/error.h"
 #include "embedded_shaders.h"
-#include "gles_renderer/egl_context.h"
-#include "gles_renderer/shader_program.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/shader_program.h"
 
 namespace lumar {
 namespace {

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "gl_test_support.h"
-#include "gles_renderer/environment_map.h"
+#include "gles_renderer/assets/environment_map.h"
 
 namespace lumar {
 namespace {

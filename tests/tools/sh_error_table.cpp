@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "gles_renderer/cube_map.h"
-#include "gles_renderer/environment_map.h"
-#include "gles_renderer/sh_projection.h"
-#include "gles_renderer/sphere_samples.h"
+#include "gles_renderer/assets/environment_map.h"
+#include "gles_renderer/ibl/cube_map.h"
+#include "gles_renderer/ibl/sh_projection.h"
+#include "gles_renderer/ibl/sphere_samples.h"
 #include "unit/render/sh_test_environments.h"
 
 namespace {

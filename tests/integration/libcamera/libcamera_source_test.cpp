@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/capture_source.h"
+#include "capture/factory/capture_factory.h"
 #include "capture/libcamera/libcamera_manager.h"
 #include "capture/libcamera/libcamera_probe.h"
 #include "capture/libcamera/libcamera_source.h"

@@ -4,7 +4,7 @@
 
 #include "config/board_profile.h"
 #include "config/config.h"
-#include "gles_renderer/drm_device.h"
+#include "gles_renderer/display/drm_device.h"
 #include "kms_sink.h"
 
 namespace lumar {

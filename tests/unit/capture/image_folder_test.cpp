@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/capture_source.h"
+#include "capture/factory/capture_factory.h"
 #include "capture/image_folder_source.h"
 #include "core/error.h"
 #include "output/frame_writer.h"

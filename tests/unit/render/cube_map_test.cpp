@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/cube_map.h"
+#include "gles_renderer/ibl/cube_map.h"
 
 namespace lumar {
 namespace {

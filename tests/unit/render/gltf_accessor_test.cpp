@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "gles_renderer/gltf_model.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "mini_gltf.h"
 #include "render_test_support.h"
 

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gles_renderer/gltf_model.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "mini_gltf.h"
 #include "render_test_support.h"
 

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "gles_renderer/gltf_model.h"
-#include "gles_renderer/lafortune_material.h"
+#include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/assets/lafortune_material.h"
 #include "mini_gltf.h"
 #include "render_test_support.h"
 

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "gles_renderer/gltf_model.h"
-#include "gles_renderer/tangent_space.h"
+#include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/assets/tangent_space.h"
 #include "render_test_support.h"
 
 namespace lumar {

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gles_renderer/environment_map.h"
+#include "gles_renderer/assets/environment_map.h"
 #include "render_test_support.h"
 
 namespace lumar {

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/lafortune_material.h"
+#include "gles_renderer/assets/lafortune_material.h"
 
 namespace lumar {
 namespace {

@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "gles_renderer/lafortune_shading.h"
+#include "gles_renderer/ibl/lafortune_shading.h"
 
 namespace lumar {
 namespace {

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/builtin_shapes.h"
-#include "gles_renderer/mesh_simplify.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/mesh_simplify.h"
 
 namespace lumar {
 namespace {

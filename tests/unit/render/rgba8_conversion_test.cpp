@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/rgba8_conversion.h"
+#include "gles_renderer/assets/rgba8_conversion.h"
 
 namespace lumar {
 namespace {

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "gles_renderer/sh_projection.h"
+#include "gles_renderer/ibl/sh_projection.h"
 
 namespace lumar::test {
 

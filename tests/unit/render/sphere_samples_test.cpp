@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gles_renderer/sphere_samples.h"
+#include "gles_renderer/ibl/sphere_samples.h"
 
 namespace lumar {
 namespace {

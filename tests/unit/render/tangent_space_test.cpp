@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "gles_renderer/tangent_space.h"
+#include "gles_renderer/assets/tangent_space.h"
 
 namespace lumar {
 namespace {

@@ -1,0 +1,36 @@
+# cmake -DCHECKER=CheckLayering.cmake -DWORK=dir -P CheckLayeringSelfTest.cmake
+cmake_minimum_required(VERSION 3.25)
+# The layering check must fail on an include across a boundary no link backs, name the file and
+# line, and accept the same include from a library that does link the header's owner.
+file(REMOVE_RECURSE "${WORK}")
+file(WRITE "${WORK}/src/low/low.h" "#pragma once\n")
+file(WRITE "${WORK}/src/low/low.cpp" "#include \"low/low.h\"\n")
+file(WRITE "${WORK}/src/linked/linked.cpp" "// uses low, links it\n#include \"low/low.h\"\n")
+file(WRITE "${WORK}/src/unlinked/unlinked.cpp" "#include <vector>\n\n#include \"low/low.h\"\n")
+file(WRITE "${WORK}/layering.cmake" "
+set(LAYER_low_DIRS \"${WORK}/src/low\")
+set(LAYER_low_ALLOWED \"\")
+set(LAYER_linked_DIRS \"${WORK}/src/linked\")
+set(LAYER_linked_ALLOWED \"low\")
+set(LAYER_unlinked_DIRS \"${WORK}/src/unlinked\")
+set(LAYER_unlinked_ALLOWED \"linked\")
+set(LAYER_TARGETS \"low;linked;unlinked\")
+set(LAYER_SOURCE_ROOT \"${WORK}/src\")
+set(LAYER_INCLUDE_ROOTS \"${WORK}/src\")
+")
+execute_process(COMMAND ${CMAKE_COMMAND} -DLAYERING=${WORK}/layering.cmake -P "${CHECKER}"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(all "${out}${err}")
+if(rc EQUAL 0)
+  message(FATAL_ERROR "the check passed a tree with a forbidden include:\n${all}")
+endif()
+if(NOT all MATCHES "unlinked/unlinked.cpp:3: unlinked includes \"low/low.h\" of low")
+  message(FATAL_ERROR "the violation was not reported as FILE:LINE:\n${all}")
+endif()
+# One report only: linked.cpp's include is backed by its link.
+string(REGEX MATCHALL "includes \"" reported "${all}")
+list(LENGTH reported count)
+if(NOT count EQUAL 1)
+  message(FATAL_ERROR "expected exactly one violation, got ${count}:\n${all}")
+endif()
+message("layering self-test ok")

@@ -1,0 +1,327 @@
+#include "gles_renderer/assets/gltf_materials.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "gles_renderer/assets/lafortune_material.h"
+#include "gles_renderer/assets/rgba8_conversion.h"
+
+namespace lumar::gltf {
+namespace {
+
+constexpr const char* kLafortuneExtension = "LUMAR_materials_lafortune";
+
+double finiteOr(double value, double fallback)
+{
+    return std::isfinite(value) ? value : fallback;
+}
+
+template <int N>
+glm::vec<N, float> vectorFactor(const std::vector<double>& values, const glm::vec<N, float>& fallback,
+                                const std::string& what)
+{
+    if (values.empty()) {
+        return fallback;
+    }
+    if (values.size() != size_t(N)) {
+        throw InputError(what + " has " + std::to_string(values.size()) + " numbers, expected " + std::to_string(N));
+    }
+    glm::vec<N, float> out;
+    for (int i = 0; i < N; ++i) {
+        if (!std::isfinite(values[size_t(i)])) {
+            throw InputError(what + " holds a non-finite number");
+        }
+        out[i] = float(values[size_t(i)]);
+    }
+    return out;
+}
+
+// Builds lumar textures on demand, one per (image, colour space) pair actually used.
+class TextureTable {
+public:
+    TextureTable(const tinygltf::Model& model, const std::string& fileForLog) : model_(model), file_(fileForLog) {}
+
+    // Index into textures() for glTF texture `textureIndex` (-1: none), or -1 when the
+    // texture has no usable image.
+    int resolve(int textureIndex, int texCoord, bool srgb, const std::string& what)
+    {
+        if (textureIndex < 0) {
+            return -1;
+        }
+        if (size_t(textureIndex) >= model_.textures.size()) {
+            throw InputError(what + ": texture " + std::to_string(textureIndex) + " does not exist");
+        }
+        if (texCoord != 0) {
+            LUMAR_LOG(Render, Warn) << file_ << ": " << what << " uses TEXCOORD_" << texCoord
+                                    << "; only TEXCOORD_0 is loaded, so it is sampled with that";
+        }
+        const int imageIndex = model_.textures[size_t(textureIndex)].source;
+        if (imageIndex < 0) {
+            LUMAR_LOG(Render, Warn) << file_ << ": " << what << ": texture " << textureIndex
+                                    << " has no image lumar can read (an image extension?); ignored";
+            return -1;
+        }
+        if (size_t(imageIndex) >= model_.images.size()) {
+            throw InputError(what + ": texture " + std::to_string(textureIndex) + " uses image " +
+                             std::to_string(imageIndex) + ", which does not exist");
+        }
+        const auto key = std::make_pair(imageIndex, srgb);
+        if (const auto found = built_.find(key); found != built_.end()) {
+            return found->second;
+        }
+        const tinygltf::Image& image = model_.images[size_t(imageIndex)];
+        int index = -1;
+        if (image.image.empty()) {
+            LUMAR_LOG(Render, Warn) << file_ << ": image " << imageIndex << " (" << image.uri << ") was not loaded; "
+                                    << what << " is ignored";
+        } else {
+            GltfTexture texture;
+            try {
+                texture.image = convertToRgba8(image.image, image.width, image.height, image.component, image.bits);
+            } catch (const InputError& e) {
+                throw InputError("image " + std::to_string(imageIndex) + ": " + e.what());
+            }
+            texture.srgb = srgb;
+            index = int(textures_.size());
+            textures_.push_back(std::move(texture));
+        }
+        built_.emplace(key, index);
+        return index;
+    }
+
+    std::vector<GltfTexture> take() { return std::move(textures_); }
+
+private:
+    const tinygltf::Model& model_;
+    const std::string& file_;
+    std::map<std::pair<int, bool>, int> built_;
+    std::vector<GltfTexture> textures_;
+};
+
+// KHR_materials_emissive_strength: a factor on emissiveFactor that lets emission exceed 1.
+float emissiveStrength(const tinygltf::Material& material, const std::string& what)
+{
+    const auto extension = material.extensions.find("KHR_materials_emissive_strength");
+    if (extension == material.extensions.end() || !extension->second.Has("emissiveStrength")) {
+        return 1.0f;
+    }
+    const tinygltf::Value& strength = extension->second.Get("emissiveStrength");
+    if (!strength.IsNumber() || !std::isfinite(strength.GetNumberAsDouble()) || strength.GetNumberAsDouble() < 0.0) {
+        throw InputError(what + ": emissiveStrength must be a non-negative number");
+    }
+    return float(strength.GetNumberAsDouble());
+}
+
+// "material 3 ("Body")": the index finds it in the file, the name in an editor.
+std::string materialLabel(size_t index, const std::string& name)
+{
+    return "material " + std::to_string(index) + (name.empty() ? " (unnamed)" : " (\"" + name + "\")");
+}
+
+std::string formatNumber(double v)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+// Typed access to the fields of one LUMAR_materials_lafortune object (see
+// LUMAR_materials_lafortune.md). tinygltf drops JSON nulls, empty arrays and empty objects
+// while parsing, so those read as absent fields.
+class LafortuneExtensionReader {
+public:
+    LafortuneExtensionReader(const tinygltf::Value& object, std::string prefix)
+        : object_(object), prefix_(std::move(prefix))
+    {
+    }
+
+    [[nodiscard]] std::string what(std::string_view field) const { return prefix_ + std::string(field); }
+    [[noreturn]] void fail(std::string_view field, const std::string& message) const
+    {
+        throw InputError(what(field) + ": " + message);
+    }
+
+    void rejectUnknownFields(std::initializer_list<std::string_view> known) const
+    {
+        for (const std::string& key : object_.Keys()) {
+            if (key != "extensions" && key != "extras" && std::find(known.begin(), known.end(), key) == known.end()) {
+                fail(key, "unknown field");
+            }
+        }
+    }
+
+    std::optional<float> number(std::string_view field, double min, double max, bool maxExclusive) const
+    {
+        const std::string key(field);
+        if (!object_.Has(key)) {
+            return std::nullopt;
+        }
+        const tinygltf::Value& value = object_.Get(key);
+        if (!value.IsNumber()) {
+            fail(field, "expected a number");
+        }
+        const double v = value.GetNumberAsDouble();
+        if (!std::isfinite(v) || v < min || (maxExclusive ? v >= max : v > max)) {
+            fail(field, formatNumber(v) + " is outside [" + formatNumber(min) + ", " + formatNumber(max) +
+                            (maxExclusive ? ")" : "]"));
+        }
+        return float(v);
+    }
+
+    std::optional<glm::vec3> vec3(std::string_view field, double min, double max) const
+    {
+        const std::string key(field);
+        if (!object_.Has(key)) {
+            return std::nullopt;
+        }
+        const tinygltf::Value& value = object_.Get(key);
+        const std::string expected =
+            "expected an array of 3 numbers within [" + formatNumber(min) + ", " + formatNumber(max) + "]";
+        if (!value.IsArray() || value.ArrayLen() != 3) {
+            fail(field, expected + (value.IsArray() ? ", found " + std::to_string(value.ArrayLen()) : ""));
+        }
+        glm::vec3 out;
+        for (int i = 0; i < 3; ++i) {
+            const tinygltf::Value& element = value.Get(i);
+            if (!element.IsNumber() || !std::isfinite(element.GetNumberAsDouble()) ||
+                element.GetNumberAsDouble() < min || element.GetNumberAsDouble() > max) {
+                fail(field, expected);
+            }
+            out[i] = float(element.GetNumberAsDouble());
+        }
+        return out;
+    }
+
+    struct TextureInfo {
+        int index = -1;
+        int texCoord = 0;
+    };
+
+    // A glTF textureInfo object: {"index": N, "texCoord": M}; the index is checked later.
+    std::optional<TextureInfo> texture(std::string_view field) const
+    {
+        const std::string key(field);
+        if (!object_.Has(key)) {
+            return std::nullopt;
+        }
+        const tinygltf::Value& value = object_.Get(key);
+        if (!value.IsObject()) {
+            fail(field, "expected a textureInfo object {\"index\": N}");
+        }
+        for (const std::string& member : value.Keys()) {
+            if (member != "index" && member != "texCoord" && member != "extensions" && member != "extras") {
+                fail(field, "unknown field " + member);
+            }
+        }
+        TextureInfo info;
+        if (!value.Has("index")) {
+            fail(field, "index is missing");
+        }
+        if (!value.Get("index").IsInt() || value.Get("index").GetNumberAsInt() < 0) {
+            fail(field, "index must be a non-negative integer");
+        }
+        info.index = value.Get("index").GetNumberAsInt();
+        if (value.Has("texCoord")) {
+            if (!value.Get("texCoord").IsInt() || value.Get("texCoord").GetNumberAsInt() < 0) {
+                fail(field, "texCoord must be a non-negative integer");
+            }
+            info.texCoord = value.Get("texCoord").GetNumberAsInt();
+        }
+        return info;
+    }
+
+private:
+    const tinygltf::Value& object_;
+    std::string prefix_;
+};
+
+// LUMAR_materials_lafortune: the full Lafortune parameter set; every field absent falls back
+// to the metallic-roughness conversion of the material's own factors.
+void readLafortuneExtension(const tinygltf::Value& extension, const std::string& label, GltfMaterial& material,
+                            TextureTable& textures)
+{
+    if (!extension.IsObject()) {
+        throw InputError(label + " " + kLafortuneExtension + ": expected an object");
+    }
+    const LafortuneExtensionReader r(extension, label + " " + std::string(kLafortuneExtension) + ".");
+    r.rejectUnknownFields({"diffuseFactor", "diffuseTexture", "specularFactor", "specularTexture", "lobeFactor",
+                           "exponentFactor", "lobeTexture", "fresnelPhi", "tangentRotation", "tangentRotationTexture"});
+
+    LafortuneParams p = lafortuneFromMetallicRoughness(glm::vec3(material.baseColorFactor), material.metallicFactor,
+                                                       material.roughnessFactor);
+    p.diffuse = r.vec3("diffuseFactor", 0.0, 1.0).value_or(p.diffuse);
+    p.specular = r.vec3("specularFactor", 0.0, 1.0).value_or(p.specular);
+    p.lobe = r.vec3("lobeFactor", -kMaxLobeCoefficient, kMaxLobeCoefficient).value_or(p.lobe);
+    if (p.lobe == glm::vec3(0.0f)) {
+        r.fail("lobeFactor", "all three coefficients are 0: the lobe has no direction");
+    }
+    p.exponent = r.number("exponentFactor", kMinLafortuneExponent, kMaxLafortuneExponent, false).value_or(p.exponent);
+    p.fresnelPhi = r.number("fresnelPhi", 0.0, 1.0, true).value_or(p.fresnelPhi);
+    const std::optional<float> rotation = r.number("tangentRotation", 0.0, 1.0, false);
+
+    const auto resolve = [&](std::string_view field, bool srgb, int current) {
+        const auto info = r.texture(field);
+        return info ? textures.resolve(info->index, info->texCoord, srgb, r.what(field)) : current;
+    };
+    // rho_d's texture takes the base-colour slot: the shader multiplies the same sRGB texel
+    // by rho_d instead of by the base colour.
+    material.baseColorTexture = resolve("diffuseTexture", true, material.baseColorTexture);
+    material.specularTexture = resolve("specularTexture", true, -1);
+    material.lobeTexture = resolve("lobeTexture", false, -1);
+    material.tangentRotationTexture = resolve("tangentRotationTexture", false, -1);
+    // The rotation is factor x texel; the conversion's factor 0 would hide the texture, so a
+    // rotation texture without a factor gets 1.
+    p.tangentRotation = rotation.value_or(material.tangentRotationTexture >= 0 ? 1.0f : 0.0f);
+
+    material.lafortune = p;
+    material.hasLafortune = true;
+}
+
+} // namespace
+
+ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::string& fileForLog)
+{
+    ConvertedMaterials out;
+    TextureTable textures(model, fileForLog);
+    for (size_t m = 0; m < model.materials.size(); ++m) {
+        const tinygltf::Material& source = model.materials[m];
+        const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+        const std::string what = "material " + std::to_string(m);
+
+        GltfMaterial material;
+        material.name = source.name;
+        material.baseColorFactor = vectorFactor<4>(pbr.baseColorFactor, glm::vec4(1.0f), what + " baseColorFactor");
+        material.metallicFactor = float(std::clamp(finiteOr(pbr.metallicFactor, 1.0), 0.0, 1.0));
+        material.roughnessFactor = float(std::clamp(finiteOr(pbr.roughnessFactor, 1.0), 0.0, 1.0));
+        material.emissiveFactor = vectorFactor<3>(source.emissiveFactor, glm::vec3(0.0f), what + " emissiveFactor") *
+                                  emissiveStrength(source, what);
+        material.normalScale = float(finiteOr(source.normalTexture.scale, 1.0));
+        material.doubleSided = source.doubleSided;
+
+        material.baseColorTexture = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, true,
+                                                     what + " baseColorTexture");
+        material.metallicRoughnessTexture =
+            textures.resolve(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, false,
+                             what + " metallicRoughnessTexture");
+        material.normalTexture =
+            textures.resolve(source.normalTexture.index, source.normalTexture.texCoord, false, what + " normalTexture");
+        material.emissiveTexture = textures.resolve(source.emissiveTexture.index, source.emissiveTexture.texCoord, true,
+                                                    what + " emissiveTexture");
+        if (const auto lafortune = source.extensions.find(kLafortuneExtension); lafortune != source.extensions.end()) {
+            readLafortuneExtension(lafortune->second, materialLabel(m, source.name), material, textures);
+        }
+        out.materials.push_back(std::move(material));
+    }
+    out.textures = textures.take();
+    return out;
+}
+
+} // namespace lumar::gltf

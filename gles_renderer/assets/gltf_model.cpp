@@ -1,0 +1,409 @@
+#include "gles_renderer/assets/gltf_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "gles_renderer/assets/gltf_accessors.h"
+#include "gles_renderer/assets/gltf_materials.h"
+#include "gles_renderer/assets/gltf_parse.h"
+#include "gles_renderer/assets/tangent_space.h"
+
+namespace lumar {
+namespace {
+
+// Extensions a file may require that this loader honours. Any other required extension
+// (Draco, meshopt, basisu, texture transforms...) would make us draw the model wrongly.
+const char* const kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength", "LUMAR_materials_lafortune"};
+
+template <typename Vec> std::vector<Vec> toVectors(const std::vector<float>& flat)
+{
+    constexpr size_t n = sizeof(Vec) / sizeof(float);
+    std::vector<Vec> out(flat.size() / n);
+    for (size_t i = 0; i < out.size(); ++i) {
+        for (size_t c = 0; c < n; ++c) {
+            out[i][int(c)] = flat[i * n + c];
+        }
+    }
+    return out;
+}
+
+// Reads an optional vertex attribute; empty when the primitive does not have it.
+std::vector<float> readAttribute(const tinygltf::Model& model, const tinygltf::Primitive& primitive, const char* name,
+                                 int components, bool allowNormalizedIntegers, size_t vertexCount)
+{
+    const auto found = primitive.attributes.find(name);
+    if (found == primitive.attributes.end()) {
+        return {};
+    }
+    std::vector<float> values;
+    try {
+        values = gltf::readFloatAccessor(model, found->second, components, allowNormalizedIntegers);
+    } catch (const InputError& e) {
+        throw InputError(std::string(name) + ": " + e.what());
+    }
+    if (values.size() != vertexCount * size_t(components)) {
+        throw InputError(std::string(name) + " has " + std::to_string(values.size() / size_t(components)) +
+                         " elements, POSITION has " + std::to_string(vertexCount));
+    }
+    return values;
+}
+
+// glTF 2.0 §3.7.2.1: strips and fans as triangle lists with the specified winding.
+std::vector<uint32_t> toTriangleList(const std::vector<uint32_t>& indices, int mode)
+{
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (indices.size() % 3 != 0) {
+            throw InputError(std::to_string(indices.size()) + " triangle indices is not a multiple of 3");
+        }
+        return indices;
+    }
+    std::vector<uint32_t> triangles;
+    if (indices.size() < 3) {
+        return triangles;
+    }
+    triangles.reserve((indices.size() - 2) * 3);
+    for (size_t i = 0; i + 2 < indices.size(); ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            const size_t odd = i % 2;
+            triangles.insert(triangles.end(), {indices[i], indices[i + 1 + odd], indices[i + 2 - odd]});
+        } else { // fan
+            triangles.insert(triangles.end(), {indices[i + 1], indices[i + 2], indices[0]});
+        }
+    }
+    return triangles;
+}
+
+// The file's normals made unit length, or area-weighted ones where it has none (or, for
+// single vertices, a zero-length one).
+std::vector<glm::vec3> vertexNormals(const std::vector<float>& fromFile, const std::vector<glm::vec3>& positions,
+                                     const std::vector<uint32_t>& indices)
+{
+    if (fromFile.empty()) {
+        return generateVertexNormals(positions, indices);
+    }
+    std::vector<glm::vec3> normals = toVectors<glm::vec3>(fromFile);
+    std::optional<std::vector<glm::vec3>> generated;
+    for (size_t i = 0; i < normals.size(); ++i) {
+        const float length = glm::length(normals[i]);
+        if (length > 1e-20f) {
+            normals[i] /= length;
+        } else {
+            if (!generated) {
+                generated = generateVertexNormals(positions, indices);
+            }
+            normals[i] = (*generated)[i];
+        }
+    }
+    return normals;
+}
+
+// The file's tangents (unit xyz, w exactly +-1), or tangents generated from the uvs when it
+// has none or some of its tangents are zero-length.
+std::vector<glm::vec4> vertexTangents(const std::vector<float>& fromFile, const GltfPrimitive& primitive,
+                                      const std::string& file, const std::string& what)
+{
+    std::vector<glm::vec4> tangents = toVectors<glm::vec4>(fromFile);
+    for (glm::vec4& t : tangents) {
+        const float length = glm::length(glm::vec3(t));
+        if (!(length > 1e-20f)) {
+            LUMAR_LOG(Render, Warn) << file << ": " << what << " has zero-length tangents; generating them all";
+            tangents.clear();
+            break;
+        }
+        t = glm::vec4(glm::vec3(t) / length, t.w < 0.0f ? -1.0f : 1.0f);
+    }
+    if (tangents.empty()) {
+        tangents = generateTangents(primitive.positions, primitive.normals, primitive.uvs, primitive.indices);
+    }
+    return tangents;
+}
+
+// One mesh primitive as lumar data (modelFromMesh left at identity), or nothing when it
+// cannot be drawn as triangles.
+std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& source,
+                                              const std::string& file, const std::string& what)
+{
+    const int mode = source.mode < 0 ? TINYGLTF_MODE_TRIANGLES : source.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        LUMAR_LOG(Render, Warn) << file << ": " << what << " has mode " << mode
+                                << " (points or lines), skipped: only triangles are drawn";
+        return std::nullopt;
+    }
+    if (source.attributes.find("POSITION") == source.attributes.end()) {
+        LUMAR_LOG(Render, Warn) << file << ": " << what << " has no POSITION, skipped";
+        return std::nullopt;
+    }
+    std::vector<float> positions;
+    try {
+        positions = gltf::readFloatAccessor(model, source.attributes.at("POSITION"), 3, false);
+    } catch (const InputError& e) {
+        throw InputError(std::string("POSITION: ") + e.what());
+    }
+    const size_t vertexCount = positions.size() / 3;
+
+    std::vector<uint32_t> indices;
+    if (source.indices != -1) {
+        indices = gltf::readIndexAccessor(model, source.indices);
+        for (const uint32_t index : indices) {
+            if (index >= vertexCount) {
+                throw InputError("index " + std::to_string(index) + " is out of range (" + std::to_string(vertexCount) +
+                                 " vertices)");
+            }
+        }
+    } else {
+        indices.resize(vertexCount);
+        for (size_t i = 0; i < vertexCount; ++i) {
+            indices[i] = uint32_t(i);
+        }
+    }
+    indices = toTriangleList(indices, mode);
+    if (indices.empty()) {
+        LUMAR_LOG(Render, Warn) << file << ": " << what << " has no triangles, skipped";
+        return std::nullopt;
+    }
+    if (source.material < -1 || source.material >= int(model.materials.size())) {
+        throw InputError("material " + std::to_string(source.material) + " does not exist");
+    }
+
+    GltfPrimitive primitive;
+    primitive.material = source.material;
+    primitive.positions = toVectors<glm::vec3>(positions);
+    primitive.indices = std::move(indices);
+    primitive.normals = vertexNormals(readAttribute(model, source, "NORMAL", 3, false, vertexCount),
+                                      primitive.positions, primitive.indices);
+    primitive.uvs = toVectors<glm::vec2>(readAttribute(model, source, "TEXCOORD_0", 2, true, vertexCount));
+    if (primitive.uvs.empty()) {
+        primitive.uvs.assign(vertexCount, glm::vec2(0.0f));
+    }
+    primitive.tangents =
+        vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount), primitive, file, what);
+    return primitive;
+}
+
+glm::dvec3 vectorOrDefault(const std::vector<double>& values, const glm::dvec3& fallback, const std::string& what)
+{
+    if (values.empty()) {
+        return fallback;
+    }
+    if (values.size() != 3) {
+        throw InputError(what + " must have 3 numbers");
+    }
+    return {values[0], values[1], values[2]};
+}
+
+// The node's local transform: its matrix (column-major) or translation * rotation * scale.
+glm::dmat4 localTransform(const tinygltf::Node& node, const std::string& what)
+{
+    glm::dmat4 local(1.0);
+    if (!node.matrix.empty()) {
+        if (node.matrix.size() != 16) {
+            throw InputError(what + ": matrix must have 16 numbers");
+        }
+        for (int i = 0; i < 16; ++i) {
+            local[i / 4][i % 4] = node.matrix[size_t(i)];
+        }
+    } else {
+        const glm::dvec3 translation = vectorOrDefault(node.translation, glm::dvec3(0.0), what + " translation");
+        const glm::dvec3 scale = vectorOrDefault(node.scale, glm::dvec3(1.0), what + " scale");
+        glm::dquat rotation(1.0, 0.0, 0.0, 0.0);
+        if (!node.rotation.empty()) {
+            if (node.rotation.size() != 4) {
+                throw InputError(what + ": rotation must have 4 numbers");
+            }
+            // glTF stores (x, y, z, w); glm's constructor takes w first.
+            rotation = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+            const double length = glm::length(rotation);
+            if (!(length > 1e-12)) {
+                throw InputError(what + ": rotation is not a unit quaternion");
+            }
+            rotation /= length;
+        }
+        local = glm::translate(glm::dmat4(1.0), translation) * glm::mat4_cast(rotation) *
+                glm::scale(glm::dmat4(1.0), scale);
+    }
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(local[c][r])) {
+                throw InputError(what + ": transform holds a non-finite number");
+            }
+        }
+    }
+    return local;
+}
+
+// The nodes the scene starts from: the default scene's, else scene 0's, else (a file with
+// no scenes) every node that is no other node's child.
+std::vector<int> sceneRoots(const tinygltf::Model& model)
+{
+    if (model.defaultScene >= int(model.scenes.size())) {
+        throw InputError("default scene " + std::to_string(model.defaultScene) + " does not exist");
+    }
+    if (!model.scenes.empty()) {
+        return model.scenes[size_t(std::max(model.defaultScene, 0))].nodes;
+    }
+    std::vector<bool> isChild(model.nodes.size(), false);
+    for (const tinygltf::Node& node : model.nodes) {
+        for (const int child : node.children) {
+            if (child >= 0 && size_t(child) < isChild.size()) {
+                isChild[size_t(child)] = true;
+            }
+        }
+    }
+    std::vector<int> roots;
+    for (size_t n = 0; n < model.nodes.size(); ++n) {
+        if (!isChild[n]) {
+            roots.push_back(int(n));
+        }
+    }
+    return roots;
+}
+
+class SceneFlattener {
+public:
+    SceneFlattener(const tinygltf::Model& model, const std::string& file) : model_(model), file_(file) {}
+
+    // Walks the node trees without recursion (a hostile file could nest nodes deeply enough
+    // to overflow the stack) and emits one GltfPrimitive per (node, mesh primitive).
+    std::vector<GltfPrimitive> flatten()
+    {
+        std::vector<GltfPrimitive> out;
+        std::vector<bool> visited(model_.nodes.size(), false);
+        std::vector<std::pair<int, glm::dmat4>> pending;
+        const std::vector<int> roots = sceneRoots(model_);
+        for (auto root = roots.rbegin(); root != roots.rend(); ++root) {
+            pending.emplace_back(*root, glm::dmat4(1.0));
+        }
+        while (!pending.empty()) {
+            const auto [nodeIndex, modelFromParent] = pending.back();
+            pending.pop_back();
+            const std::string what = "node " + std::to_string(nodeIndex);
+            if (nodeIndex < 0 || size_t(nodeIndex) >= model_.nodes.size()) {
+                throw InputError(what + " does not exist");
+            }
+            // Nodes form disjoint trees (glTF 2.0 §3.5.3); a second visit means a cycle or a
+            // shared child, and following it could loop forever.
+            if (visited[size_t(nodeIndex)]) {
+                throw InputError(what + " is reached twice: the node hierarchy is not a tree");
+            }
+            visited[size_t(nodeIndex)] = true;
+            const tinygltf::Node& node = model_.nodes[size_t(nodeIndex)];
+            const glm::dmat4 modelFromNode = modelFromParent * localTransform(node, what);
+            if (node.mesh >= 0) {
+                appendMesh(node.mesh, glm::mat4(modelFromNode), out);
+            } else if (node.mesh < -1) {
+                throw InputError(what + ": mesh " + std::to_string(node.mesh) + " does not exist");
+            }
+            for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) {
+                pending.emplace_back(*child, modelFromNode);
+            }
+        }
+        return out;
+    }
+
+private:
+    void appendMesh(int meshIndex, const glm::mat4& modelFromMesh, std::vector<GltfPrimitive>& out)
+    {
+        if (size_t(meshIndex) >= model_.meshes.size()) {
+            throw InputError("mesh " + std::to_string(meshIndex) + " does not exist");
+        }
+        const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            const auto key = std::make_pair(meshIndex, p);
+            auto cached = converted_.find(key);
+            if (cached == converted_.end()) {
+                const std::string what = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+                try {
+                    cached = converted_.emplace(key, convertPrimitive(model_, mesh.primitives[p], file_, what)).first;
+                } catch (const InputError& e) {
+                    throw InputError(what + ": " + e.what());
+                }
+            }
+            if (cached->second) {
+                out.push_back(*cached->second);
+                out.back().modelFromMesh = modelFromMesh;
+            }
+        }
+    }
+
+    const tinygltf::Model& model_;
+    const std::string& file_;
+    // Instanced meshes are decoded once and copied per instance.
+    std::map<std::pair<int, size_t>, std::optional<GltfPrimitive>> converted_;
+};
+
+void checkRequiredExtensions(const tinygltf::Model& model)
+{
+    for (const std::string& extension : model.extensionsRequired) {
+        if (std::find(std::begin(kSupportedRequiredExtensions), std::end(kSupportedRequiredExtensions), extension) ==
+            std::end(kSupportedRequiredExtensions)) {
+            throw InputError("requires the unsupported extension " + extension);
+        }
+    }
+}
+
+std::string oneLine(std::string text)
+{
+    std::replace_if(
+        text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    return text;
+}
+
+} // namespace
+
+size_t GltfModel::triangleCount() const
+{
+    size_t triangles = 0;
+    for (const GltfPrimitive& primitive : primitives) {
+        triangles += primitive.indices.size() / 3;
+    }
+    return triangles;
+}
+
+GltfModel loadGltfModel(const std::filesystem::path& file)
+{
+    const std::string fileName = file.string();
+    try {
+        const tinygltf::Model source = gltf::parseGltfFile(file);
+        checkRequiredExtensions(source);
+
+        GltfModel model;
+        model.file = file;
+        gltf::ConvertedMaterials materials = gltf::convertMaterials(source, fileName);
+        model.materials = std::move(materials.materials);
+        model.textures = std::move(materials.textures);
+        model.primitives = SceneFlattener(source, fileName).flatten();
+        if (model.primitives.empty()) {
+            throw InputError("the scene holds no triangles");
+        }
+
+        glm::vec3 lo(std::numeric_limits<float>::max());
+        glm::vec3 hi(std::numeric_limits<float>::lowest());
+        for (const GltfPrimitive& primitive : model.primitives) {
+            for (const glm::vec3& p : primitive.positions) {
+                const glm::vec3 world = glm::vec3(primitive.modelFromMesh * glm::vec4(p, 1.0f));
+                lo = glm::min(lo, world);
+                hi = glm::max(hi, world);
+            }
+        }
+        if (!std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z)) {
+            throw InputError("the node transforms take the model beyond floating-point range");
+        }
+        model.boundsMin = lo;
+        model.boundsMax = hi;
+        return model;
+    } catch (const InputError& e) {
+        throw InputError(oneLine(fileName + ": " + e.what()));
+    }
+}
+
+} // namespace lumar

@@ -1,0 +1,186 @@
+#include "gles_renderer/assets/gltf_parse.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <stb_image.h>
+
+#include "core/error.h"
+#include "core/file_bytes.h"
+#include "core/log.h"
+
+namespace lumar::gltf {
+namespace {
+
+// A .glb's length field is 32 bits and tinygltf takes an unsigned int; models we render are
+// tens of megabytes, so anything near the limit is refused before it is read.
+constexpr uint64_t kMaxFileBytes = uint64_t(1) << 30;
+// Larger textures than any GPU we target can sample; refused before stb allocates them.
+constexpr int kMaxImageSide = 16384;
+
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A; // "JSON"
+
+uint32_t readLittleEndian32(const unsigned char* p)
+{
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// The GLB container (glTF 2.0 §4.4): a 12-byte header, then chunks of (length, type, data),
+// the first one JSON. tinygltf 2.7 reads a BIN chunk's 8-byte header without counting it
+// against the file length, so every chunk is checked here first.
+void checkGlbContainer(const std::vector<unsigned char>& bytes)
+{
+    if (bytes.size() < 12 || readLittleEndian32(bytes.data()) != kGlbMagic) {
+        throw InputError("not a binary glTF file (no glTF magic)");
+    }
+    const uint32_t version = readLittleEndian32(bytes.data() + 4);
+    if (version != 2) {
+        throw InputError("GLB version " + std::to_string(version) + " is not supported (only 2)");
+    }
+    const uint64_t length = readLittleEndian32(bytes.data() + 8);
+    if (length > bytes.size()) {
+        throw InputError("truncated GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
+                         std::to_string(bytes.size()));
+    }
+    uint64_t offset = 12;
+    for (int chunk = 0; offset < length; ++chunk) {
+        if (length - offset < 8) {
+            throw InputError("GLB chunk " + std::to_string(chunk) + " header runs past the end of the data");
+        }
+        const uint64_t chunkLength = readLittleEndian32(bytes.data() + offset);
+        const uint32_t chunkType = readLittleEndian32(bytes.data() + offset + 4);
+        if (chunk == 0 && chunkType != kChunkJson) {
+            throw InputError("the first GLB chunk is not JSON");
+        }
+        if (chunkLength > length - offset - 8) {
+            throw InputError("GLB chunk " + std::to_string(chunk) + " (" + std::to_string(chunkLength) +
+                             " bytes) runs past the end of the data");
+        }
+        offset += 8 + chunkLength;
+    }
+    if (offset == 12) {
+        throw InputError("the GLB holds no JSON chunk");
+    }
+}
+
+bool hasGlbExtension(const std::filesystem::path& file)
+{
+    std::string extension = file.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return extension == ".glb";
+}
+
+// What the image callback needs: the model being filled (tinygltf parses buffers and buffer
+// views before images).
+struct ImageLoaderContext {
+    const tinygltf::Model* model = nullptr;
+};
+
+// tinygltf 2.7 passes &buffer.data[view.byteOffset] and view.byteLength without checking
+// that the view fits in the buffer; check that, and the image size, before decoding.
+bool loadImageChecked(tinygltf::Image* image, const int imageIndex, std::string* err, std::string* warn,
+                      int requiredWidth, int requiredHeight, const unsigned char* bytes, int size, void* userData)
+{
+    const auto* context = static_cast<const ImageLoaderContext*>(userData);
+    const std::string what = "image " + std::to_string(imageIndex);
+    if (image->bufferView >= 0) {
+        const tinygltf::Model& model = *context->model;
+        if (size_t(image->bufferView) >= model.bufferViews.size()) {
+            *err += what + ": bufferView " + std::to_string(image->bufferView) + " does not exist\n";
+            return false;
+        }
+        const tinygltf::BufferView& view = model.bufferViews[size_t(image->bufferView)];
+        if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size() ||
+            view.byteOffset > model.buffers[size_t(view.buffer)].data.size() ||
+            view.byteLength > model.buffers[size_t(view.buffer)].data.size() - view.byteOffset ||
+            view.byteLength > size_t(std::numeric_limits<int>::max())) {
+            *err += what + ": bufferView " + std::to_string(image->bufferView) + " lies outside its buffer\n";
+            return false;
+        }
+    }
+    if (bytes == nullptr || size <= 0) {
+        *err += what + ": no image data\n";
+        return false;
+    }
+    int width = 0, height = 0, components = 0;
+    if (stbi_info_from_memory(bytes, size, &width, &height, &components) &&
+        (width > kMaxImageSide || height > kMaxImageSide)) {
+        *err += what + ": " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
+                std::to_string(kMaxImageSide) + " pixels a side\n";
+        return false;
+    }
+    // tinygltf's own decoder (stb_image); its options struct is not in the public header, and
+    // without one it expands every image to 4 components (8 or 16 bits), which suits us.
+    return tinygltf::LoadImageData(image, imageIndex, err, warn, requiredWidth, requiredHeight, bytes, size, nullptr);
+}
+
+std::string firstLine(std::string_view text)
+{
+    const size_t start = text.find_first_not_of(" \t\r\n");
+    if (start == std::string_view::npos) {
+        return {};
+    }
+    text.remove_prefix(start);
+    return std::string(text.substr(0, text.find_first_of("\r\n")));
+}
+
+void logLines(const std::filesystem::path& file, std::string_view text)
+{
+    while (!text.empty()) {
+        const size_t end = text.find('\n');
+        const std::string_view line = text.substr(0, end);
+        if (line.find_first_not_of(" \t\r") != std::string_view::npos) {
+            LUMAR_LOG(Render, Warn) << file.string() << ": " << line;
+        }
+        text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
+    }
+}
+
+} // namespace
+
+tinygltf::Model parseGltfFile(const std::filesystem::path& file)
+{
+    const std::vector<unsigned char> bytes = readFileBytes(file, kMaxFileBytes);
+    if (bytes.empty())
+        throw InputError("the file is empty");
+    const bool binary = hasGlbExtension(file) || (bytes.size() >= 4 && readLittleEndian32(bytes.data()) == kGlbMagic);
+    if (binary) {
+        checkGlbContainer(bytes);
+    }
+
+    tinygltf::Model model;
+    ImageLoaderContext imageContext;
+    imageContext.model = &model;
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&loadImageChecked, &imageContext);
+    std::string err, warn;
+    const std::string baseDir = file.parent_path().string();
+    bool ok = false;
+    try {
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                 unsigned(bytes.size()), baseDir);
+    } catch (const std::exception& e) {
+        // tinygltf only guards its JSON parse; anything else it throws is still about the file.
+        throw InputError(std::string("glTF parser failed: ") + e.what());
+    }
+    logLines(file, warn);
+    if (!ok) {
+        const std::string reason = firstLine(err);
+        throw InputError(reason.empty() ? std::string("not a valid glTF file") : reason);
+    }
+    logLines(file, err); // tinygltf reports some recoverable problems as errors and goes on
+    return model;
+}
+
+} // namespace lumar::gltf

@@ -1,0 +1,43 @@
+#include "gles_renderer/gl/frame_readback.h"
+
+#include "core/log.h"
+#include "gles_renderer/gl/gl_check.h"
+
+namespace lumar {
+
+FrameReadback::FrameReadback(GLuint framebuffer, int width, int height)
+    : framebuffer_(framebuffer), width_(width), height_(height)
+{
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+    GLint format = 0, type = 0;
+    glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_FORMAT, &format);
+    glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
+    readsRgbDirectly_ = format == GL_RGB && type == GL_UNSIGNED_BYTE;
+    if (!readsRgbDirectly_)
+        rgba_.resize(size_t(width_) * size_t(height_) * 4);
+    LUMAR_LOG(Render, Debug) << "readback as " << (readsRgbDirectly_ ? "RGB" : "RGBA, repacked to RGB");
+    checkGlError("setting up frame readback");
+}
+
+void FrameReadback::read(Image8& rgb)
+{
+    rgb.reshape(width_, height_, 3);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (readsRgbDirectly_) {
+        glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data.data());
+    } else {
+        glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+        const size_t pixels = size_t(width_) * size_t(height_);
+        const uint8_t* in = rgba_.data();
+        uint8_t* out = rgb.data.data();
+        for (size_t i = 0; i < pixels; ++i, in += 4, out += 3) {
+            out[0] = in[0];
+            out[1] = in[1];
+            out[2] = in[2];
+        }
+    }
+    checkGlError("reading the frame back");
+}
+
+} // namespace lumar

@@ -1,0 +1,49 @@
+// Shader programs built from the sources embedded from shaders_es/ (looked up by file name).
+#pragma once
+
+#include <array>
+#include <string_view>
+
+#include "gles_renderer/gl/gl_object.h"
+
+namespace lumar {
+
+// The vertex and fragment shader file names of one program.
+struct ProgramSources {
+    std::string_view vertex;
+    std::string_view fragment;
+};
+
+// Every program the renderer links, so a test can check them all.
+inline constexpr ProgramSources kBackgroundProgram{"fullscreen.vert", "background.frag"};
+inline constexpr ProgramSources kBackgroundYcbcrProgram{"fullscreen.vert", "background_ycbcr.frag"};
+inline constexpr ProgramSources kMeshProgram{"mesh.vert", "mesh.frag"};
+inline constexpr ProgramSources kDepthOnlyProgram{"depth_only.vert", "depth_only.frag"};
+inline constexpr ProgramSources kSkyboxProgram{"cube_face.vert", "skybox.frag"};
+inline constexpr ProgramSources kShProjectProgram{"fullscreen.vert", "sh_project_cube.frag"};
+inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh_project_equirect.frag"};
+inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.frag"};
+inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
+inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
+inline constexpr std::array<ProgramSources, 10> kAllPrograms{
+    kDepthOnlyProgram,     kBackgroundProgram,    kBackgroundYcbcrProgram,   kMeshProgram,
+    kSkyboxProgram,        kShProjectProgram,     kShProjectEquirectProgram, kShReduceProgram,
+    kDiffuseFromShProgram, kPhongPrefilterProgram};
+
+// Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
+// Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the
+// first line of the info log when it does not compile.
+GlShader compileShader(std::string_view name);
+
+// Compiles and links both stages. Throws RuntimeError naming the shaders and the first
+// line of the link log when linking fails.
+GlProgram linkProgram(const ProgramSources& sources);
+
+// The location of uniform `name`; throws RuntimeError when the program lacks it (a typo
+// or an optimised-away uniform would otherwise fail silently).
+GLint uniformLocation(const GlProgram& program, const char* name);
+
+// Binds uniform block `blockName` to `binding`; throws RuntimeError when it is missing.
+void bindUniformBlock(const GlProgram& program, const char* blockName, GLuint binding);
+
+} // namespace lumar

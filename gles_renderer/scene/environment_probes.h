@@ -1,0 +1,90 @@
+// The per-object dynamic environment maps of the paper (DESIGN.md §6.1): each scene object
+// owns an IblMaps set rendered from its bounding-box centre with itself hidden, holding the
+// real-environment skybox and the other objects shaded with their own maps as they stand
+// (one bounce of inter-reflection per frame). Which maps are re-rendered each frame follows
+// the configured policy; an object whose maps are not ready is lit by the real environment.
+#pragma once
+
+#include <map>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "gles_renderer/ibl_gpu/environment_lighting.h"
+#include "gles_renderer/ibl_gpu/ibl_pipeline.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/scene_renderer.h"
+
+namespace lumar {
+
+class EnvironmentProbes {
+public:
+    explicit EnvironmentProbes(const EnvironmentMapOptions& options);
+
+    // Brings the maps up to date for this frame and returns, per item, the maps that shade
+    // it (valid until the next call). Rebuilds the real environment's own maps when it
+    // changed. Leaves the GL framebuffer binding and viewport changed.
+    std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                           const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
+                                           RenderStats& stats);
+
+    [[nodiscard]] const IblMaps* objectMaps(int object) const;
+    [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
+    // Whether the maps are RGBA8 RGBM (no float render targets): shaders decode them.
+    [[nodiscard]] bool rgbm() const { return pipeline_.rgbm(); }
+    // Forgets every object's maps (the models they showed are gone).
+    void clear()
+    {
+        probes_.clear();
+        history_.clear();
+        phantomLayers_.clear();
+    }
+
+private:
+    void rebuildEnvironmentMaps(const EnvironmentLighting& environment);
+    // Which items get new maps this frame (indices into items).
+    void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
+    void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile, RenderStats& stats);
+
+    EnvironmentMapOptions options_;
+    IblPipeline pipeline_;
+    IblMaps environmentMaps_;
+    int environmentGeneration_ = -1;
+    std::map<int, IblMaps> probes_; // by DrawItem::object; node-based: pointers stay valid
+    // OnChange: what each object's map last saw, and the updates still owed to the bounces.
+    struct History {
+        std::vector<glm::dmat4> scene;
+        int bouncesLeft = 0;
+    };
+    std::map<int, History> history_;
+    // Per object: the skybox with the phantoms drawn over it, as seen from the object's
+    // centre, the backdrop of its map while the phantoms stay where they were relative to
+    // it. A phantom is a large shaded surface (a table fills a hemisphere of the map) lit by
+    // the real environment's maps alone, so it looks the same until it moves relative to
+    // the centre or the environment changes; each update then draws it into depth only
+    // (it still hides the neighbours behind it) instead of shading thousands of texels.
+    // The layer is drawn once the phantoms have stood still for two updates: phantoms that
+    // keep moving relative to the object are shaded into its map directly, as before. (Were
+    // phantoms ever textured with the camera image, the layer would be stale every frame.)
+    struct PhantomLayer {
+        IblMaps maps; // only the mirror map is used
+        bool drawn = false;
+        std::vector<std::pair<int, glm::dmat4>> phantoms; // model, environment-frame pose relative to the centre
+    };
+    std::map<int, PhantomLayer> phantomLayers_;            // by DrawItem::object
+    std::vector<std::pair<int, glm::dmat4>> phantomScene_; // per-probe scratch
+    std::vector<glm::dmat4> scene_;                        // this frame's scene in the environment frame
+    long frame_ = 0;
+    size_t roundRobin_ = 0;
+    double probeCostMs_ = 0.0; // running mean cost of one probe (budget policy)
+    // Per-frame scratch, kept to avoid allocating every frame.
+    std::vector<const IblMaps*> maps_;
+    std::vector<size_t> updates_;
+    std::vector<size_t> owners_;
+    std::vector<DrawItem> faceItems_;
+    std::vector<const IblMaps*> faceMaps_;
+};
+
+} // namespace lumar

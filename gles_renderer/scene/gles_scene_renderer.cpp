@@ -1,0 +1,228 @@
+// SceneRenderer on an EGL context (surfaceless, or on a KMS display's GBM platform): background
+// pass, mesh pass, readback or presentation to a window surface.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/frame_readback.h"
+#include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
+#include "gles_renderer/gl/render_target.h"
+#include "gles_renderer/gl/window_target.h"
+#include "gles_renderer/ibl_gpu/environment_lighting.h"
+#include "gles_renderer/scene/background_pass.h"
+#include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/environment_probes.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/scene_renderer.h"
+
+namespace lumar {
+namespace {
+
+std::string glString(GLenum name)
+{
+    const auto* text = reinterpret_cast<const char*>(glGetString(name));
+    return text ? text : "(unknown)";
+}
+
+// Makes the context current and logs what it runs on; returns it for member initialisation.
+EglContext makeContext(const std::shared_ptr<EglDisplay>& display)
+{
+    EglContext context(display ? display : EglDisplay::surfaceless());
+    LUMAR_LOG(Render, Info) << "GLES: " << glString(GL_VERSION) << ", renderer " << glString(GL_RENDERER) << ", vendor "
+                            << glString(GL_VENDOR);
+    return context;
+}
+
+void checkIntrinsics(const CameraIntrinsics& k, int width, int height)
+{
+    if (k.width != width || k.height != height)
+        throw InputError("camera intrinsics are for " + std::to_string(k.width) + "x" + std::to_string(k.height) +
+                         " but the renderer draws " + std::to_string(width) + "x" + std::to_string(height));
+    if (!(std::isfinite(k.fx) && std::isfinite(k.fy) && k.fx > 0 && k.fy > 0 && std::isfinite(k.cx) &&
+          std::isfinite(k.cy)))
+        throw InputError("camera intrinsics need finite fx, fy > 0 and a finite principal point");
+}
+
+class GlesSceneRenderer final : public SceneRenderer {
+public:
+    GlesSceneRenderer(int width, int height, const RenderOptions& options)
+        : context_(makeContext(options.display)), width_(width), height_(height),
+          target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
+                                                             makeSolidTexture(128, 128, 255, 255)},
+          readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
+          profile_(options.profile)
+    {
+        checkGlError("creating the scene renderer");
+        // Zero-copy camera frames are imported from their dmabufs where this display can.
+        background_.enableDmabufImport(options.display ? *options.display : *EglDisplay::surfaceless());
+        LUMAR_LOG(Render, Info) << "rendering " << width << "x" << height << ", " << target_.samples()
+                                << " sample(s) per pixel";
+    }
+
+    GlesSceneRenderer(const GlesSceneRenderer&) = delete;
+    GlesSceneRenderer& operator=(const GlesSceneRenderer&) = delete;
+
+    ~GlesSceneRenderer() override
+    {
+        // The GL objects below are deleted by their owners' destructors, which need this
+        // context current (another renderer's may be).
+        try {
+            context_.makeCurrent();
+        } catch (const RuntimeError& e) {
+            LUMAR_LOG(Render, Warn) << "GL objects leak with their context: " << e.what();
+        }
+    }
+
+    ModelId addModel(const GltfModel& model) override
+    {
+        context_.makeCurrent();
+        models_.push_back(uploadModel(model, defaults_));
+        LUMAR_LOG(Render, Debug) << "uploaded " << model.file.string() << " as model " << models_.size() - 1;
+        return ModelId(models_.size() - 1);
+    }
+
+    void removeModels() override
+    {
+        context_.makeCurrent();
+        probes_.clear();
+        models_.clear();
+    }
+
+    void setEnvironment(const ImageF& equirect, float intensity) override
+    {
+        context_.makeCurrent();
+        environment_.set(equirect, intensity);
+    }
+
+    void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) override
+    {
+        environment_.setRotation(environmentFromCamera);
+    }
+
+    void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
+                std::span<const DrawItem> items) override
+    {
+        renderOver([&] { background_.draw(backgroundRgb); }, intrinsics, items);
+    }
+
+    void render(const YCbCrImage& background, const CameraIntrinsics& intrinsics,
+                std::span<const DrawItem> items) override
+    {
+        renderOver([&] { background_.draw(background); }, intrinsics, items);
+    }
+
+    void readback(Image8& rgb) override
+    {
+        context_.makeCurrent();
+        readback_.read(rgb);
+    }
+
+    void present(WindowTarget& window) override
+    {
+        context_.makeCurrent(window.surface());
+        // Fit the frame into the window keeping its aspect (black bars), flipping it: the
+        // frame's row 0 is the image's top, the window's is its bottom.
+        const double scale = std::min(double(window.width()) / width_, double(window.height()) / height_);
+        const int w = int(std::lround(width_ * scale)), h = int(std::lround(height_ * scale));
+        const int x = (window.width() - w) / 2, y = (window.height() - h) / 2;
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.readFramebuffer());
+        if (w != window.width() || h != window.height()) {
+            glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+        }
+        glBlitFramebuffer(0, 0, width_, height_, x, y + h, x + w, y, GL_COLOR_BUFFER_BIT,
+                          w == width_ && h == height_ ? GL_NEAREST : GL_LINEAR);
+        checkGlError("copying the frame into the window");
+        if (window.finishBeforeSwap())
+            glFinish();
+        const EGLDisplay display = eglGetCurrentDisplay();
+        if (!eglSwapBuffers(display, window.surface()))
+            throw RuntimeError("eglSwapBuffers failed on the display's window surface");
+        window.showSwapped();
+    }
+
+    [[nodiscard]] RenderStats lastStats() const override { return stats_; }
+    [[nodiscard]] const IblMaps* objectMaps(int object) const override { return probes_.objectMaps(object); }
+    [[nodiscard]] const IblMaps& environmentMaps() const override { return probes_.environmentMaps(); }
+
+    [[nodiscard]] int width() const override { return width_; }
+    [[nodiscard]] int height() const override { return height_; }
+
+private:
+    // One frame: the environment maps, then `drawBackground` into the target, then the models.
+    template <typename DrawBackground>
+    void renderOver(const DrawBackground& drawBackground, const CameraIntrinsics& intrinsics,
+                    std::span<const DrawItem> items)
+    {
+        checkIntrinsics(intrinsics, width_, height_);
+        for (const DrawItem& item : items)
+            if (item.model < 0 || size_t(item.model) >= models_.size())
+                throw InputError("draw item refers to model " + std::to_string(item.model) + " but the renderer has " +
+                                 std::to_string(models_.size()));
+        context_.makeCurrent();
+
+        stats_ = RenderStats{};
+        const std::span<const IblMaps* const> maps =
+            probes_.update(models_, items, environment_, meshes_, profile_, stats_);
+
+        const auto start = std::chrono::steady_clock::now();
+        target_.bindForDrawing();
+        glDepthMask(GL_TRUE);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        drawBackground();
+
+        frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
+        const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
+        for (int c = 0; c < 3; ++c)
+            frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
+        frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, 0.0f);
+        meshes_.draw(frame_, models_, items, maps, -1, MeshPass::Phantoms::DepthOnly);
+        target_.finishFrame();
+        if (profile_) {
+            glFinish();
+            stats_.shadingMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        }
+        // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
+        // before readback() overlaps with it.
+        glFlush();
+    }
+
+    // Declared first so it is destroyed last: every GL object below needs it.
+    EglContext context_;
+    int width_;
+    int height_;
+    RenderTarget target_;
+    BackgroundPass background_{target_};
+    MeshPass meshes_;
+    DefaultTextures defaults_;
+    EnvironmentLighting environment_;
+    FrameReadback readback_;
+    std::vector<GpuModel> models_;
+    EnvironmentProbes probes_;
+    bool profile_;
+    RenderStats stats_;
+    FrameUniforms frame_;
+};
+
+} // namespace
+
+std::unique_ptr<SceneRenderer> SceneRenderer::create(int width, int height)
+{
+    return create(width, height, RenderOptions{});
+}
+
+std::unique_ptr<SceneRenderer> SceneRenderer::create(int width, int height, const RenderOptions& options)
+{
+    return std::make_unique<GlesSceneRenderer>(width, height, options);
+}
+
+} // namespace lumar

@@ -1,0 +1,241 @@
+#include "gles_renderer/scene/gpu_model.h"
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.h"
+#include "gles_renderer/assets/lafortune_material.h"
+#include "gles_renderer/assets/mesh_simplify.h"
+#include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
+#include "gles_renderer/scene/uniform_blocks.h"
+
+namespace lumar {
+namespace {
+
+// The stand-ins' grid sizes, finest first; each two thirds to three quarters of the one
+// before, so the chosen level's cells rarely span much less than kProxyMaxCellPixels.
+constexpr int kProxyLevelCells[] = {kProxyMaxCells, 32, 24, 16, 12, 8};
+// A coarser level is kept only where it removes at least this share of the triangles of the
+// last level kept: a cube stays one level, a sphere seen small still gets coarser ones.
+constexpr double kProxyMinTriangleSaving = 0.2;
+
+size_t triangleCount(const GltfModel& model)
+{
+    size_t count = 0;
+    for (const GltfPrimitive& p : model.primitives)
+        count += p.indices.size() / 3;
+    return count;
+}
+
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec2 uv;
+    glm::vec4 tangent;
+};
+static_assert(sizeof(Vertex) == 48, "Vertex must be tightly packed for the attribute offsets");
+
+std::string describe(const GltfModel& model)
+{
+    return model.file.empty() ? std::string("(in-memory model)") : model.file.string();
+}
+
+void checkTextureIndex(const GltfModel& model, size_t materialIndex, const char* slot, int texture)
+{
+    if (texture < -1 || texture >= int(model.textures.size()))
+        throw InputError(describe(model) + ": material " + std::to_string(materialIndex) + " " + slot +
+                         " refers to texture " + std::to_string(texture) + " of " +
+                         std::to_string(model.textures.size()));
+}
+
+void checkPrimitive(const GltfModel& model, size_t index)
+{
+    const GltfPrimitive& p = model.primitives[index];
+    const std::string where = describe(model) + ": primitive " + std::to_string(index);
+    const size_t n = p.positions.size();
+    if (p.normals.size() != n || p.uvs.size() != n || p.tangents.size() != n)
+        throw InputError(where + ": " + std::to_string(n) + " positions but " + std::to_string(p.normals.size()) +
+                         " normals, " + std::to_string(p.uvs.size()) + " uvs, " + std::to_string(p.tangents.size()) +
+                         " tangents");
+    if (n > size_t(std::numeric_limits<uint32_t>::max()))
+        throw InputError(where + ": too many vertices");
+    if (p.indices.size() % 3 != 0)
+        throw InputError(where + ": " + std::to_string(p.indices.size()) +
+                         " indices is not a whole number of triangles");
+    if (p.indices.size() > size_t(std::numeric_limits<GLsizei>::max()))
+        throw InputError(where + ": too many indices");
+    for (const uint32_t i : p.indices)
+        if (i >= n)
+            throw InputError(where + ": index " + std::to_string(i) + " beyond " + std::to_string(n) + " vertices");
+    if (p.material < -1 || p.material >= int(model.materials.size()))
+        throw InputError(where + ": material " + std::to_string(p.material) + " of " +
+                         std::to_string(model.materials.size()));
+}
+
+void checkTexture(const GltfModel& model, size_t index, GLint maxSize)
+{
+    const Image8& image = model.textures[index].image;
+    if (image.channels != 4 || image.width < 1 || image.height < 1 || image.width > maxSize || image.height > maxSize ||
+        image.data.size() != size_t(image.width) * size_t(image.height) * 4)
+        throw InputError(describe(model) + ": texture " + std::to_string(index) + " is " + std::to_string(image.width) +
+                         "x" + std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                         "; the renderer needs RGBA of at most " + std::to_string(maxSize) + " pixels a side");
+}
+
+GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& textures,
+                           const DefaultTextures& defaults)
+{
+    const auto textureOr = [&](int index, const GlTexture& fallback) {
+        return index >= 0 ? textures[size_t(index)].name() : fallback.name();
+    };
+    MaterialUniforms block;
+    block.baseColorFactor = m.baseColorFactor;
+    block.emissiveNormalScale = glm::vec4(m.emissiveFactor, m.normalTexture >= 0 ? m.normalScale : 0.0f);
+    const auto has = [](int texture) { return texture >= 0 ? 1.0f : 0.0f; };
+    block.textureFlags =
+        glm::vec4(has(m.baseColorTexture), has(m.hasLafortune ? m.specularTexture : m.metallicRoughnessTexture),
+                  has(m.lobeTexture), has(m.tangentRotationTexture));
+    if (m.hasLafortune) {
+        const LafortuneParams& l = m.lafortune;
+        block.baseColorFactor = glm::vec4(l.diffuse, m.baseColorFactor.a);
+        block.metallicRoughness = glm::vec4(m.metallicFactor, m.roughnessFactor, 1.0f, l.fresnelPhi);
+        block.specularFactor = glm::vec4(l.specular, l.tangentRotation);
+        block.lobeFactor = glm::vec4(l.lobe, l.exponent);
+    } else {
+        block.metallicRoughness = glm::vec4(m.metallicFactor, m.roughnessFactor, 0.0f, kMetallicRoughnessFresnelPhi);
+    }
+
+    GpuMaterial material;
+    material.uniforms = GlBuffer::create();
+    glBindBuffer(GL_UNIFORM_BUFFER, material.uniforms.name());
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(block), &block, GL_STATIC_DRAW);
+    material.baseColor = textureOr(m.baseColorTexture, defaults.white);
+    material.metallicRoughness = textureOr(m.metallicRoughnessTexture, defaults.white);
+    material.normal = textureOr(m.normalTexture, defaults.flatNormal);
+    material.emissive = textureOr(m.emissiveTexture, defaults.white);
+    material.specular = textureOr(m.specularTexture, defaults.white);
+    material.lobe = textureOr(m.lobeTexture, defaults.white);
+    material.tangentRotation = textureOr(m.tangentRotationTexture, defaults.white);
+    material.doubleSided = m.doubleSided;
+    return material;
+}
+
+GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
+{
+    std::vector<Vertex> vertices(p.positions.size());
+    for (size_t i = 0; i < vertices.size(); ++i)
+        vertices[i] = {p.positions[i], p.normals[i], p.uvs[i], p.tangents[i]};
+
+    GpuPrimitive primitive;
+    primitive.modelFromMesh = glm::dmat4(p.modelFromMesh);
+    primitive.material = p.material >= 0 ? size_t(p.material) : defaultMaterial;
+    primitive.indexCount = GLsizei(p.indices.size());
+    primitive.vertexArray = GlVertexArray::create();
+    primitive.vertices = GlBuffer::create();
+    primitive.indices = GlBuffer::create();
+
+    glBindVertexArray(primitive.vertexArray.name());
+    glBindBuffer(GL_ARRAY_BUFFER, primitive.vertices.name());
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+    const auto attribute = [](GLuint location, GLint components, size_t offset) {
+        glEnableVertexAttribArray(location);
+        glVertexAttribPointer(location, components, GL_FLOAT, GL_FALSE, sizeof(Vertex),
+                              reinterpret_cast<const void*>(offset));
+    };
+    attribute(0, 3, offsetof(Vertex, position));
+    attribute(1, 3, offsetof(Vertex, normal));
+    attribute(2, 2, offsetof(Vertex, uv));
+    attribute(3, 4, offsetof(Vertex, tangent));
+
+    // 16-bit indices where they suffice: half the index traffic.
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, primitive.indices.name());
+    if (vertices.size() <= 65536) {
+        std::vector<uint16_t> shortIndices(p.indices.begin(), p.indices.end());
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(shortIndices.size() * sizeof(uint16_t)), shortIndices.data(),
+                     GL_STATIC_DRAW);
+        primitive.indexType = GL_UNSIGNED_SHORT;
+    } else {
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(uint32_t)), p.indices.data(),
+                     GL_STATIC_DRAW);
+        primitive.indexType = GL_UNSIGNED_INT;
+    }
+    glBindVertexArray(0);
+    return primitive;
+}
+
+} // namespace
+
+GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
+{
+    // Validate everything before the first upload, so bad input leaves no half-made model.
+    GLint maxTextureSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
+    std::vector<bool> textureUsed(model.textures.size(), false);
+    for (size_t m = 0; m < model.materials.size(); ++m) {
+        const GltfMaterial& material = model.materials[m];
+        const std::pair<const char*, int> slots[] = {{"base colour", material.baseColorTexture},
+                                                     {"metallic-roughness", material.metallicRoughnessTexture},
+                                                     {"normal", material.normalTexture},
+                                                     {"emissive", material.emissiveTexture},
+                                                     {"specular", material.specularTexture},
+                                                     {"lobe", material.lobeTexture},
+                                                     {"tangent rotation", material.tangentRotationTexture}};
+        for (const auto& [slot, texture] : slots) {
+            checkTextureIndex(model, m, slot, texture);
+            if (texture >= 0)
+                textureUsed[size_t(texture)] = true;
+        }
+    }
+    for (size_t t = 0; t < model.textures.size(); ++t)
+        if (textureUsed[t])
+            checkTexture(model, t, maxTextureSize);
+    for (size_t p = 0; p < model.primitives.size(); ++p)
+        checkPrimitive(model, p);
+
+    GpuModel gpu;
+    gpu.boundsMin = model.boundsMin;
+    gpu.boundsMax = model.boundsMax;
+    gpu.textures.resize(model.textures.size());
+    for (size_t t = 0; t < model.textures.size(); ++t)
+        if (textureUsed[t])
+            gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb);
+    for (const GltfMaterial& material : model.materials)
+        gpu.materials.push_back(uploadMaterial(material, gpu.textures, defaults));
+    gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, defaults));
+    const size_t defaultMaterial = gpu.materials.size() - 1;
+    for (const GltfPrimitive& primitive : model.primitives)
+        if (!primitive.indices.empty())
+            gpu.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    size_t keptTriangles = 0;
+    for (const int cells : kProxyLevelCells) {
+        const GltfModel proxy = makeProxyModel(model, cells);
+        const size_t triangles = triangleCount(proxy);
+        if (!gpu.proxyLevels.empty() && double(triangles) > (1.0 - kProxyMinTriangleSaving) * double(keptTriangles))
+            continue;
+        keptTriangles = triangles;
+        GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
+        level.cells = cells;
+        for (const GltfPrimitive& primitive : proxy.primitives)
+            if (!primitive.indices.empty())
+                level.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    }
+    checkGlError("uploading a model");
+    return gpu;
+}
+
+const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels)
+{
+    // Coarsest first: the first level whose cells are small enough.
+    if (std::isfinite(modelPixels) && modelPixels > 0.0)
+        for (auto level = model.proxyLevels.rbegin(); level != model.proxyLevels.rend(); ++level)
+            if (modelPixels / double(level->cells) <= kProxyMaxCellPixels)
+                return *level;
+    return model.proxyLevels.front();
+}
+
+} // namespace lumar

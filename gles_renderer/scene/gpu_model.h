@@ -1,0 +1,75 @@
+// A GltfModel uploaded to GL: one vertex array per primitive, one uniform buffer per
+// material, its textures; everything the mesh pass binds to draw it.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/gl/gl_object.h"
+
+namespace lumar {
+
+// Stand-ins for absent material textures, shared by every model.
+struct DefaultTextures {
+    GlTexture white;      // every colour and parameter map: the factor alone
+    GlTexture flatNormal; // tangent-space +z
+};
+
+struct GpuMaterial {
+    GlBuffer uniforms; // a MaterialUniforms block
+    // Texture names, owned by the GpuModel or by DefaultTextures.
+    GLuint baseColor = 0;
+    GLuint metallicRoughness = 0;
+    GLuint normal = 0;
+    GLuint emissive = 0;
+    GLuint specular = 0;
+    GLuint lobe = 0;
+    GLuint tangentRotation = 0;
+    bool doubleSided = false;
+};
+
+struct GpuPrimitive {
+    glm::dmat4 modelFromMesh{1.0};
+    GlBuffer vertices; // interleaved position, normal, uv, tangent
+    GlBuffer indices;
+    GlVertexArray vertexArray;
+    GLsizei indexCount = 0;
+    GLenum indexType = GL_UNSIGNED_INT;
+    size_t material = 0; // index into GpuModel::materials
+};
+
+struct GpuModel {
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space: the environment map's centre
+    std::vector<GlTexture> textures;            // parallel to GltfModel::textures; unused ones stay empty
+    std::vector<GpuMaterial> materials;         // the model's materials, then glTF's default material
+    std::vector<GpuPrimitive> primitives;
+    // The same model simplified by vertex clustering (mesh_simplify.h) at several grid
+    // sizes, drawn into the environment maps where it spans tens of pixels; same materials.
+    struct ProxyLevel {
+        int cells = 0; // grid cells along the model's longest side
+        std::vector<GpuPrimitive> primitives;
+    };
+    std::vector<ProxyLevel> proxyLevels; // finest first; never empty after uploadModel
+};
+
+// Grid cells along a model's longest side for its finest environment-map stand-in: a
+// neighbour in a 64-pixel face rarely spans more pixels than that.
+inline constexpr int kProxyMaxCells = 48;
+// The widest a stand-in's grid cell may appear, in pixels, when its level is chosen: vertex
+// clustering moves a vertex less than a cell, and llvmpipe shades every triangle in whole
+// 4x4 blocks, so sub-pixel triangles (the finest level seen from afar) cost up to 16
+// fragment-shader runs per pixel they cover.
+inline constexpr double kProxyMaxCellPixels = 1.0;
+
+// The stand-in to draw for `model` when its longest side spans `modelPixels` pixels of the
+// view (<= 0 or not finite: unknown, the finest): the coarsest level whose cell spans at
+// most kProxyMaxCellPixels, else the finest.
+const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels);
+
+// Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.
+GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults);
+
+} // namespace lumar

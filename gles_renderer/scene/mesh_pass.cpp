@@ -1,0 +1,195 @@
+#include "gles_renderer/scene/mesh_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/shader_program.h"
+
+namespace lumar {
+
+// Skips GL calls that would not change state: llvmpipe validates state on every change.
+class StateCache {
+public:
+    void setCulling(bool enabled)
+    {
+        if (culling_ == int(enabled))
+            return;
+        culling_ = int(enabled);
+        if (enabled)
+            glEnable(GL_CULL_FACE);
+        else
+            glDisable(GL_CULL_FACE);
+    }
+    void setFrontFace(GLenum mode)
+    {
+        if (frontFace_ != mode)
+            glFrontFace(mode);
+        frontFace_ = mode;
+    }
+    void bindTexture(GLuint unit, GLuint texture, GLenum target = GL_TEXTURE_2D)
+    {
+        if (textures_[unit] == texture)
+            return;
+        textures_[unit] = texture;
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(target, texture);
+    }
+    void bindMaps(const IblMaps* maps)
+    {
+        if (maps_ == maps)
+            return;
+        maps_ = maps;
+        bindTexture(MeshPass::kDiffuseMapUnit, maps->diffuse.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kGlossy1MapUnit, maps->glossy1.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name(), GL_TEXTURE_CUBE_MAP);
+    }
+    void bindMaterial(const GpuMaterial* material)
+    {
+        if (material_ == material)
+            return;
+        material_ = material;
+        glBindBufferBase(GL_UNIFORM_BUFFER, kMaterialBlockBinding, material->uniforms.name());
+        bindTexture(MeshPass::kBaseColorUnit, material->baseColor);
+        bindTexture(MeshPass::kMetallicRoughnessUnit, material->metallicRoughness);
+        bindTexture(MeshPass::kNormalUnit, material->normal);
+        bindTexture(MeshPass::kEmissiveUnit, material->emissive);
+        bindTexture(MeshPass::kSpecularUnit, material->specular);
+        bindTexture(MeshPass::kLobeUnit, material->lobe);
+        bindTexture(MeshPass::kTangentRotationUnit, material->tangentRotation);
+        setCulling(!material->doubleSided);
+    }
+
+private:
+    int culling_ = -1; // unknown at the start of a pass
+    GLenum frontFace_ = 0;
+    std::array<GLuint, 16> textures_{};
+    const GpuMaterial* material_ = nullptr;
+    const IblMaps* maps_ = nullptr;
+};
+
+MeshPass::MeshPass()
+    : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
+      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), depthOnly_(linkProgram(kDepthOnlyProgram)),
+      depthOnlyCameraFromMeshLocation_(uniformLocation(depthOnly_, "uCameraFromMesh")),
+      frameUniforms_(GlBuffer::create())
+{
+    bindUniformBlock(depthOnly_, "Frame", kFrameBlockBinding);
+    glUseProgram(program_.name());
+    glUniform1i(uniformLocation(program_, "uBaseColor"), GLint(kBaseColorUnit));
+    glUniform1i(uniformLocation(program_, "uMetallicRoughness"), GLint(kMetallicRoughnessUnit));
+    glUniform1i(uniformLocation(program_, "uNormal"), GLint(kNormalUnit));
+    glUniform1i(uniformLocation(program_, "uEmissive"), GLint(kEmissiveUnit));
+    glUniform1i(uniformLocation(program_, "uSpecular"), GLint(kSpecularUnit));
+    glUniform1i(uniformLocation(program_, "uLobe"), GLint(kLobeUnit));
+    glUniform1i(uniformLocation(program_, "uTangentRotation"), GLint(kTangentRotationUnit));
+    glUniform1i(uniformLocation(program_, "uDiffuseMap"), GLint(kDiffuseMapUnit));
+    glUniform1i(uniformLocation(program_, "uGlossy1Map"), GLint(kGlossy1MapUnit));
+    glUniform1i(uniformLocation(program_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
+    glUniform1i(uniformLocation(program_, "uMirrorMap"), GLint(kMirrorMapUnit));
+    bindUniformBlock(program_, "Frame", kFrameBlockBinding);
+    bindUniformBlock(program_, "Material", kMaterialBlockBinding);
+
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
+    checkGlError("creating the mesh pass");
+}
+
+void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                    std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail,
+                    double focalPixels) const
+{
+    if (items.empty())
+        return;
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    if (phantoms == Phantoms::DepthOnly) {
+        // The phantoms first, into depth alone with a shader that shades nothing.
+        // The program writes no colour, which leaves the colour buffer undefined where it
+        // draws unless colour writes are off.
+        StateCache state;
+        glUseProgram(depthOnly_.name());
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        for (size_t i = 0; i < items.size(); ++i)
+            if (int(i) != skip && items[i].phantom)
+                drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1, detail, focalPixels);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
+    // Nearest first: the depth test then rejects hidden fragments before they are shaded.
+    order_.clear();
+    for (size_t i = 0; i < items.size(); ++i)
+        if (int(i) != skip && (phantoms == Phantoms::Shaded || !items[i].phantom))
+            order_.push_back({centreDepth(items[i], models), i});
+    std::sort(order_.begin(), order_.end());
+    StateCache state;
+    glUseProgram(program_.name());
+    for (const auto& [depth, i] : order_)
+        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail,
+                 focalPixels);
+    glBindVertexArray(0);
+}
+
+double MeshPass::centreDepth(const DrawItem& item, const std::vector<GpuModel>& models)
+{
+    const GpuModel& model = models[size_t(item.model)];
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+    return (item.cameraFromModel * glm::dvec4(centre, 1.0)).z;
+}
+
+double MeshPass::modelPixels(const DrawItem& item, const GpuModel& model, double focalPixels)
+{
+    const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
+    const glm::dmat3 linear(item.cameraFromModel);
+    const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+    const double distance = glm::length(glm::dvec3(item.cameraFromModel * glm::dvec4(centre, 1.0)));
+    if (distance <= 0.5 * scale * glm::length(extent))
+        return std::numeric_limits<double>::infinity();
+    return focalPixels * scale * std::max({extent.x, extent.y, extent.z}) / distance;
+}
+
+void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
+                        StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail,
+                        double focalPixels) const
+{
+    const bool shaded = normalFromMeshLocation >= 0;
+    if (shaded)
+        state.bindMaps(maps);
+    const GpuModel& model = models[size_t(item.model)];
+    const std::vector<GpuPrimitive>& primitives =
+        detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
+                                : model.primitives;
+    for (const GpuPrimitive& primitive : primitives) {
+        // Composed in double precision: model matrices may carry large translations.
+        const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+        const glm::dmat3 linear(cameraFromMesh);
+        const double determinant = glm::determinant(linear);
+        if (determinant == 0.0 || !std::isfinite(determinant))
+            continue; // flattened to nothing: invisible
+        // A mirroring transform turns the winding around (see clipFromCamera for CW).
+        state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+        const glm::mat4 cameraFromMeshF(cameraFromMesh);
+        glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+        if (shaded) {
+            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+            glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+            state.bindMaterial(&model.materials[primitive.material]);
+        } else {
+            state.setCulling(!model.materials[primitive.material].doubleSided);
+        }
+        glBindVertexArray(primitive.vertexArray.name());
+        glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+    }
+}
+
+} // namespace lumar

@@ -1,0 +1,72 @@
+// The models, depth-tested and shaded by mesh.vert / mesh.frag with each item's own four
+// environment maps: pass 2 of a frame, and the other objects inside a cube-map face.
+#pragma once
+
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "gles_renderer/gl/gl_object.h"
+#include "gles_renderer/ibl_gpu/ibl_maps.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/scene_renderer.h"
+#include "gles_renderer/scene/uniform_blocks.h"
+
+namespace lumar {
+
+class StateCache;
+
+class MeshPass {
+public:
+    // Texture units of the material maps and the environment map.
+    static constexpr GLuint kBaseColorUnit = 0;
+    static constexpr GLuint kMetallicRoughnessUnit = 1;
+    static constexpr GLuint kNormalUnit = 2;
+    static constexpr GLuint kEmissiveUnit = 3;
+    static constexpr GLuint kSpecularUnit = 4;
+    static constexpr GLuint kLobeUnit = 5;
+    static constexpr GLuint kTangentRotationUnit = 6;
+    static constexpr GLuint kDiffuseMapUnit = 7;
+    static constexpr GLuint kGlossy1MapUnit = 8;
+    static constexpr GLuint kGlossy2MapUnit = 9;
+    static constexpr GLuint kMirrorMapUnit = 10;
+
+    MeshPass();
+
+    // Draws `items` into the bound framebuffer (which must have been cleared of depth),
+    // item i lit by maps[i]. Every item's model id must index `models` (the caller checks).
+    // `skip`: an item index not to draw (an environment map's owner), or -1.
+    // `phantoms`: Shaded draws phantom items like the rest (environment maps); DepthOnly
+    // draws them first into depth alone (the frame: the camera image shows them).
+    // `detail`: Full meshes (the frame) or their clustered Proxy stand-ins (environment maps),
+    // each item's level chosen by proxyLevelFor from its size in pixels: `focalPixels` is
+    // the view's focal length in pixels (<= 0: unknown, the finest levels).
+    enum class Phantoms { Shaded, DepthOnly };
+    enum class Detail { Full, Proxy };
+    void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+              std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded,
+              Detail detail = Detail::Full, double focalPixels = 0.0) const;
+
+    // How many pixels the longest side of `item`'s model spans, seen at its bounding-box
+    // centre's distance with focal length `focalPixels`; infinite where the camera is inside
+    // its bounding sphere.
+    static double modelPixels(const DrawItem& item, const GpuModel& model, double focalPixels);
+
+private:
+    // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
+    void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
+                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels) const;
+
+    // Depth along the view of the item's bounding-box centre (draw order).
+    static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
+
+    mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
+    GlProgram program_;
+    GLint cameraFromMeshLocation_;
+    GLint normalFromMeshLocation_;
+    GlProgram depthOnly_;
+    GLint depthOnlyCameraFromMeshLocation_;
+    GlBuffer frameUniforms_;
+};
+
+} // namespace lumar
