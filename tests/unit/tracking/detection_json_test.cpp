@@ -73,8 +73,8 @@ TEST(DetectionJson, FileNamesAreEscaped)
     EXPECT_EQ(fileField(std::string("\x01\x1f", 2)), "\"\\u0001\\u001f\"");
     EXPECT_EQ(fileField("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"), "\"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\"");
     // Invalid UTF-8 (a lone continuation byte, a truncated sequence, an overlong form and a
-    // UTF-16 surrogate) cannot go into JSON as is: each invalid byte becomes U+FFFD, written
-    // in UTF-8 (EF BF BD) as nlohmann's error_handler_t::replace does, not as \ufffd.
+    // UTF-16 surrogate) cannot go into JSON as is: each ill-formed sequence becomes U+FFFD,
+    // written in UTF-8 (EF BF BD) as nlohmann's error_handler_t::replace does, not as \ufffd.
     const std::string replacement = "\xef\xbf\xbd";
     EXPECT_EQ(fileField("a\x80z"), "\"a" + replacement + "z\"");
     EXPECT_EQ(fileField("a\xc3"), "\"a" + replacement + "\"");
