@@ -14,7 +14,7 @@ using Json = nlohmann::ordered_json;
 // nlohmann writes a double in its shortest round-trip form: 17 significant digits for a
 // computed value (1234.5678901234568) and "2.0" for two. A measurement is worth fewer digits,
 // so the writers round first; the rounded double then prints as the short decimal (nlohmann's
-// Grisu2 is not always shortest: 2 of the ~1,200 numbers of `lumar detect` over
+// Grisu2 is not always shortest: 2 of the ~1,060 numbers of `lumar detect` over
 // tests/data/apriltag come out with 17 digits, 0.049973316499999997 for 0.0499733165, which
 // parse back to the same double).
 
