@@ -3,6 +3,7 @@
 find_package(PkgConfig REQUIRED)
 find_package(Threads REQUIRED)
 find_package(glm REQUIRED CONFIG)
+find_package(nlohmann_json REQUIRED CONFIG)
 find_package(TinyGLTF REQUIRED CONFIG)
 find_package(tomlplusplus REQUIRED CONFIG)
 

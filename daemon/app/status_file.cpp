@@ -1,32 +1,29 @@
 #include "status_file.h"
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 
 #include "core/error.h"
-#include "tracking/detection_json.h"
+#include "core/json_output.h"
 
 namespace lumar {
 
 std::string statusJson(const RunStatus& s)
 {
-    std::string ids;
-    for (int id : s.markersVisible)
-        ids += (ids.empty() ? "" : ",") + std::to_string(id);
-    char numbers[256];
-    std::snprintf(numbers, sizeof numbers,
-                  "\"fps\":%.2f,\"frames\":%ld,\"frames_with_markers\":%ld,\"objects_drawn\":%d,\"uptime_s\":%.1f",
-                  s.fps, s.frames, s.framesWithMarkers, s.objectsDrawn, s.uptimeS);
-    const auto milliseconds = [](const std::optional<double>& ms) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%.1f", ms.value_or(0.0));
-        return ms ? std::string(text) : std::string("null");
-    };
-    return std::string("{\"state\":\"running\",") + numbers + ",\"startup_ms\":" + milliseconds(s.startupMs) +
-           ",\"last_reload_ms\":" + milliseconds(s.lastReloadMs) + ",\"markers_visible\":[" + ids +
-           "],\"camera\":" + jsonString(s.camera) + ",\"config\":" + jsonString(s.config) + "}\n";
+    const auto milliseconds = [](const std::optional<double>& ms) { return ms ? jsonDecimals(*ms, 1) : Json(nullptr); };
+    const Json status = {{"state", "running"},
+                         {"fps", jsonDecimals(s.fps, 2)},
+                         {"frames", s.frames},
+                         {"frames_with_markers", s.framesWithMarkers},
+                         {"objects_drawn", s.objectsDrawn},
+                         {"uptime_s", jsonDecimals(s.uptimeS, 1)},
+                         {"startup_ms", milliseconds(s.startupMs)},
+                         {"last_reload_ms", milliseconds(s.lastReloadMs)},
+                         {"markers_visible", s.markersVisible},
+                         {"camera", s.camera},
+                         {"config", s.config}};
+    return jsonLine(status) + "\n";
 }
 
 void StatusFile::write(const RunStatus& status) const

@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "config/config.h"
 #include "core/error.h"
+#include "core/json_output.h"
 #include "pipeline.h"
 
 namespace lumar {
@@ -127,15 +128,28 @@ int benchCommand(const Args& args)
     const int width = pipeline.output().width, height = pipeline.output().height;
 
     if (cl.has("json")) {
-        std::printf("{\"frames\":%ld,\"width\":%d,\"height\":%d,\"fps\":%.2f,\"frame_ms\":{\"p50\":%.3f,\"p99\":%.3f},"
-                    "\"stages_ms\":{\"capture\":%.3f,\"detect\":%.3f,\"render\":%.3f,\"readback\":%.3f",
-                    measured, width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), mean(captureMs),
-                    mean(detectMs), mean(renderMs), mean(readbackMs));
-        if (profile)
-            std::printf(",\"env_maps\":%.3f,\"sh\":%.3f,\"prefilter\":%.3f,\"shading\":%.3f", mean(environmentMapsMs),
-                        mean(shMs), mean(prefilterMs), mean(shadingMs));
-        std::printf("},\"env_maps_per_frame\":%.2f,\"profiled\":%s,\"rss_mb\":%.1f}\n", mean(mapsUpdated),
-                    profile ? "true" : "false", residentMegabytes());
+        Json stages = {{"capture", jsonDecimals(mean(captureMs), 3)},
+                       {"detect", jsonDecimals(mean(detectMs), 3)},
+                       {"render", jsonDecimals(mean(renderMs), 3)},
+                       {"readback", jsonDecimals(mean(readbackMs), 3)}};
+        if (profile) {
+            stages["env_maps"] = jsonDecimals(mean(environmentMapsMs), 3);
+            stages["sh"] = jsonDecimals(mean(shMs), 3);
+            stages["prefilter"] = jsonDecimals(mean(prefilterMs), 3);
+            stages["shading"] = jsonDecimals(mean(shadingMs), 3);
+        }
+        const Json summary = {
+            {"frames", measured},
+            {"width", width},
+            {"height", height},
+            {"fps", jsonDecimals(fps, 2)},
+            {"frame_ms",
+             {{"p50", jsonDecimals(percentile(frameMs, 0.5), 3)}, {"p99", jsonDecimals(percentile(frameMs, 0.99), 3)}}},
+            {"stages_ms", std::move(stages)},
+            {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
+            {"profiled", profile},
+            {"rss_mb", jsonDecimals(residentMegabytes(), 1)}};
+        std::printf("%s\n", jsonLine(summary).c_str());
     } else {
         std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n", measured,
                     width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), residentMegabytes());

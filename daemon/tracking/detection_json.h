@@ -2,19 +2,22 @@
 // {"file":"a.png","detections":[{"id":0,"hamming":0,"margin":87.5,
 //   "corners":[[x,y],[x,y],[x,y],[x,y]],"R":[[..],[..],[..]],"t":[x,y,z]}]}
 // Corners in the AprilTag library's order and OpenCV's pixel convention; R row-major; R
-// and t (camera_from_marker, metres) only for detections with a pose.
+// and t (camera_from_marker, metres) only for detections with a pose. A file name that is
+// not valid UTF-8 has U+FFFD in place of what is ill-formed (core/json_output.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "core/json_output.h"
 #include "tracking/tag_tracker.h"
 
 namespace lumar {
 
 std::string detectionsToJson(const std::string& file, const std::vector<TagDetection>& detections);
 
-// A JSON string literal (with the quotes) for UTF-8 text; invalid UTF-8 bytes become U+FFFD.
-std::string jsonString(const std::string& text);
+// Adds "R" (rows) and "t" of a camera_from_marker pose to a detection's object, to 9
+// significant digits; the frame trace (app/frame_trace.cpp) writes its poses with it too.
+void addPoseJson(Json& detection, const Pose& cameraFromMarker);
 
 } // namespace lumar

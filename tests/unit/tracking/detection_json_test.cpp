@@ -1,7 +1,9 @@
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "tracking/detection_json.h"
 
@@ -53,19 +55,44 @@ TEST(DetectionJson, PrecisionIsSixDigitsForPixelsAndNineForThePose)
     EXPECT_NE(json.find("\"t\":[0.123456789,0,0]"), std::string::npos) << json;
 }
 
+// The "file" field as written for `name`, quotes included.
+std::string fileField(const std::string& name)
+{
+    const std::string json = detectionsToJson(name, {});
+    const std::string prefix = "{\"file\":", suffix = ",\"detections\":[]}";
+    EXPECT_EQ(json.rfind(prefix, 0), 0u) << json;
+    EXPECT_GE(json.size(), prefix.size() + suffix.size()) << json;
+    EXPECT_EQ(json.substr(json.size() - suffix.size()), suffix) << json;
+    return json.substr(prefix.size(), json.size() - prefix.size() - suffix.size());
+}
+
 TEST(DetectionJson, FileNamesAreEscaped)
 {
-    EXPECT_EQ(jsonString("a\"b\\c"), "\"a\\\"b\\\\c\"");
-    EXPECT_EQ(jsonString("tab\tnl\ncr\r"), "\"tab\\tnl\\ncr\\r\"");
-    EXPECT_EQ(jsonString(std::string("\x01\x1f", 2)), "\"\\u0001\\u001f\"");
-    EXPECT_EQ(jsonString("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"), "\"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\"");
+    EXPECT_EQ(fileField("a\"b\\c"), "\"a\\\"b\\\\c\"");
+    EXPECT_EQ(fileField("tab\tnl\ncr\r"), "\"tab\\tnl\\ncr\\r\"");
+    EXPECT_EQ(fileField(std::string("\x01\x1f", 2)), "\"\\u0001\\u001f\"");
+    EXPECT_EQ(fileField("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"), "\"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\"");
     // Invalid UTF-8 (a lone continuation byte, a truncated sequence, an overlong form and a
-    // UTF-16 surrogate) cannot go into JSON as is.
-    EXPECT_EQ(jsonString("a\x80z"), "\"a\\ufffdz\"");
-    EXPECT_EQ(jsonString("a\xc3"), "\"a\\ufffd\"");
-    EXPECT_EQ(jsonString("\xc0\xaf"), "\"\\ufffd\\ufffd\"");
-    EXPECT_EQ(jsonString("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");
+    // UTF-16 surrogate) cannot go into JSON as is: each ill-formed sequence becomes U+FFFD,
+    // written in UTF-8 (EF BF BD) as nlohmann's error_handler_t::replace does, not as \ufffd.
+    const std::string replacement = "\xef\xbf\xbd";
+    EXPECT_EQ(fileField("a\x80z"), "\"a" + replacement + "z\"");
+    EXPECT_EQ(fileField("a\xc3"), "\"a" + replacement + "\"");
+    EXPECT_EQ(fileField("\xc0\xaf"), "\"" + replacement + replacement + "\"");
+    EXPECT_EQ(fileField("\xed\xa0\x80"), "\"" + replacement + replacement + replacement + "\"");
+    // A character cut short is one ill-formed sequence (Unicode's "maximal subpart"), not two.
+    EXPECT_EQ(fileField("a\xe2\x82z"), "\"a" + replacement + "z\"");
     EXPECT_EQ(detectionsToJson("we\"ird\n.png", {}), "{\"file\":\"we\\\"ird\\n.png\",\"detections\":[]}");
+}
+
+TEST(DetectionJson, AnyFileNameParsesBackToItsUtf8Text)
+{
+    for (const std::string name : {"we\"ird\n.png", "back\\slash\t.png", "caf\xc3\xa9.png", "\x7f\x01.png"}) {
+        const auto j = nlohmann::json::parse(detectionsToJson(name, {}));
+        EXPECT_EQ(j["file"], name);
+    }
+    const auto invalid = nlohmann::json::parse(detectionsToJson("bad\xff\xc3(.png", {}));
+    EXPECT_EQ(invalid["file"], "bad\xef\xbf\xbd\xef\xbf\xbd(.png");
 }
 
 TEST(DetectionJson, NonFiniteNumbersBecomeNull)
