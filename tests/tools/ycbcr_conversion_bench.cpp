@@ -4,7 +4,9 @@
 // behind the choice of path in daemon/capture/v4l2/ycbcr_to_rgb.cpp and
 // daemon/capture/colour_conversion.cpp. Not a test.
 //
-//   build/tests/tools/ycbcr_conversion_bench [rounds] [repetitions]      (defaults 5, 20)
+//   build/tests/tools/ycbcr_conversion_bench [rounds] [repetitions] [times]
+//
+// (defaults 5 rounds of 20 frames; "times" skips the error sweeps.)
 //
 // libyuv's candidates write R, G, B bytes (its "RAW"): the NV21/I422 functions given the
 // planes with U and V swapped and the swapped-constant tables (kYvu…), as libyuv's own
@@ -399,6 +401,7 @@ int main(int argc, char** argv)
 {
     const int rounds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
     const int repetitions = argc > 2 ? std::max(1, std::atoi(argv[2])) : 20;
+    const bool errors = argc <= 3 || std::string(argv[3]) != "times";
     std::printf("# ycbcr_conversion_bench: %d interleaved rounds of %d frames, medians; errors in code values\n",
                 rounds, repetitions);
     std::printf("%-8s %-12s %-9s %9s %9s %7s\n", "layout", "colorimetry", "size", "ours ms", "libyuv ms", "ratio");
@@ -436,7 +439,7 @@ int main(int argc, char** argv)
                     std::fflush(stdout);
                 }
                 for (bool legalOnly : {true, false}) {
-                    if (fullRange && !legalOnly)
+                    if (!errors || (fullRange && !legalOnly))
                         continue; // every byte is legal in full range
                     const char* inputs = legalOnly ? "legal" : "all bytes";
                     accuracyLines.push_back(std::string(layoutName(layout)) + " " + colorimetryName(c) + " (" + inputs +
