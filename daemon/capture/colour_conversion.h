@@ -30,6 +30,11 @@ struct PlanarYCbCr {
 // chromaHeight samples (0 × 0 for monochrome), upsampled bilinearly with each chroma sample
 // centred on the luma samples it covers. The taps are computed once, so converting a stream
 // allocates nothing per frame.
+//
+// Ours rather than libyuv's I420ToRGB24MatrixFilter (bilinear), measured with
+// tests/tools/ycbcr_conversion_bench against the exact formula on bilinearly interpolated
+// chroma: ours within 0.50 code values, libyuv's within 3.00 (limited range; 2.03 full), green
+// biased by -0.04 to -0.07. libyuv is 11-40x faster, but file playback is not the live path.
 class YCbCrToRgb {
 public:
     YCbCrToRgb(int width, int height, int chromaWidth, int chromaHeight);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace lumar {
 namespace {
@@ -34,6 +35,7 @@ YCbCrConverter::YCbCrConverter(YCbCrColorimetry colorimetry) : colorimetry_(colo
         const double c = (v - 128) * cScale;
         const auto i = size_t(v);
         yTerm_[i] = toFixed((v - yOffset) * yScale);
+        luma_[i] = fixedToByte(yTerm_[i]);
         crToRed_[i] = toFixed(2.0 * (1.0 - kr) * c);
         cbToBlue_[i] = toFixed(2.0 * (1.0 - kb) * c);
         cbToGreen_[i] = toFixed(2.0 * (1.0 - kb) * kb / kg * c);
@@ -48,7 +50,7 @@ void YCbCrConverter::writePixel(uint8_t yValue, int32_t redChroma, int32_t green
     rgbOut[0] = fixedToByte(y + redChroma);
     rgbOut[1] = fixedToByte(y - greenChroma);
     rgbOut[2] = fixedToByte(y + blueChroma);
-    *lumaOut = fixedToByte(y);
+    *lumaOut = luma_[yValue];
 }
 
 void YCbCrConverter::convertYuyv(const uint8_t* data, size_t stride, int width, int height, Image8& rgb,
@@ -97,8 +99,15 @@ void YCbCrConverter::convertLuma(const uint8_t* data, size_t stride, size_t step
     for (int row = 0; row < height; ++row) {
         const uint8_t* in = data + size_t(row) * stride;
         uint8_t* out = luma.row(row);
-        for (int x = 0; x < width; ++x, in += step)
-            out[x] = fixedToByte(yTerm_[*in]);
+        if (colorimetry_.fullRange && step == 1) {
+            std::memcpy(out, in, size_t(width)); // full range: Y is the luma
+        } else if (colorimetry_.fullRange) {
+            for (int x = 0; x < width; ++x)
+                out[x] = in[size_t(x) * step];
+        } else {
+            for (int x = 0; x < width; ++x)
+                out[x] = luma_[in[size_t(x) * step]];
+        }
     }
 }
 
@@ -111,11 +120,13 @@ void YCbCrConverter::convertGrey(const uint8_t* data, size_t stride, int width, 
         const uint8_t* in = data + size_t(row) * stride;
         uint8_t* out = rgb.row(row);
         uint8_t* lumaOut = luma.row(row);
-        for (int x = 0; x < width; ++x, out += 3) {
-            const uint8_t v = fixedToByte(yTerm_[in[x]]);
-            out[0] = out[1] = out[2] = v;
-            lumaOut[x] = v;
-        }
+        if (colorimetry_.fullRange)
+            std::memcpy(lumaOut, in, size_t(width));
+        else
+            for (int x = 0; x < width; ++x)
+                lumaOut[x] = luma_[in[x]];
+        for (int x = 0; x < width; ++x, out += 3)
+            out[0] = out[1] = out[2] = lumaOut[x];
     }
 }
 

@@ -1,7 +1,9 @@
 // The CPU YCbCr → RGB conversion of the V4L2 backend against the virtual camera's colour
 // bars, whose YCbCr values come from the forward BT.601/709 equations (tests/vcam), and
 // against hand-computed reference values.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -124,6 +126,74 @@ TEST(YCbCrConverter, HandComputedLimitedRangeValues)
     EXPECT_EQ(luma.data[0], 0);
     EXPECT_EQ(luma.data[1], 255);
     EXPECT_EQ(luma.data[2], 76); // (81 − 16)·255/219 = 75.7
+}
+
+TEST(YCbCrConverter, WithinRoundingOfTheExactFormulaEverywhere)
+{
+    // The contract that kept libyuv out (its 6-bit coefficients miss by up to 13 code values,
+    // see ycbcr_to_rgb.h): every Y, chroma on a grid, footroom and headroom included.
+    for (const YCbCrColorimetry colorimetry :
+         {YCbCrColorimetry{YCbCrMatrix::Bt601, false}, YCbCrColorimetry{YCbCrMatrix::Bt601, true},
+          YCbCrColorimetry{YCbCrMatrix::Bt709, false}, YCbCrColorimetry{YCbCrMatrix::Bt709, true}}) {
+        const bool bt709 = colorimetry.matrix == YCbCrMatrix::Bt709;
+        const double kr = bt709 ? 0.2126 : 0.299;
+        const double kb = bt709 ? 0.0722 : 0.114;
+        const double kg = 1.0 - kr - kb;
+        const double yScale = colorimetry.fullRange ? 1.0 : 255.0 / 219.0;
+        const double cScale = colorimetry.fullRange ? 1.0 : 255.0 / 224.0;
+        const double yOffset = colorimetry.fullRange ? 0.0 : 16.0;
+        const YCbCrConverter converter(colorimetry);
+        std::vector<uint8_t> yuyv;
+        for (int cr = 0; cr < 256; cr += 5)
+            for (int cb = 0; cb < 256; cb += 5)
+                for (int y = 0; y < 256; y += 2)
+                    yuyv.insert(yuyv.end(), {uint8_t(y), uint8_t(cb), uint8_t(y + 1), uint8_t(cr)});
+        const int width = int(yuyv.size() / 2);
+        Image8 rgb;
+        Image8 luma;
+        converter.convertYuyv(yuyv.data(), yuyv.size(), width, 1, rgb, luma);
+        double worst = 0.0;
+        for (int x = 0; x < width; ++x) {
+            const uint8_t* group = yuyv.data() + size_t(x / 2) * 4;
+            const double yv = (group[(x % 2) * 2] - yOffset) * yScale;
+            const double u = (group[1] - 128.0) * cScale;
+            const double v = (group[3] - 128.0) * cScale;
+            const double exact[3] = {yv + 2.0 * (1.0 - kr) * v,
+                                     yv - 2.0 * (1.0 - kb) * kb / kg * u - 2.0 * (1.0 - kr) * kr / kg * v,
+                                     yv + 2.0 * (1.0 - kb) * u};
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, std::abs(rgb.at(x, 0)[c] - std::clamp(exact[c], 0.0, 255.0)));
+            EXPECT_EQ(luma.data[size_t(x)], uint8_t(std::clamp(std::lround(yv), 0L, 255L))) << x;
+        }
+        EXPECT_LE(worst, 0.5 + 1e-3) << (bt709 ? "BT.709" : "BT.601") << (colorimetry.fullRange ? " full" : " limited");
+    }
+}
+
+TEST(YCbCrConverter, LumaOnlyAndGreyMatchTheConversionsLuma)
+{
+    // convertLuma and convertGrey copy the Y bytes in full range and look them up in limited
+    // range: the same bytes convertNv12/convertYuyv write, for every Y value.
+    for (const bool fullRange : {false, true}) {
+        const YCbCrConverter converter({YCbCrMatrix::Bt601, fullRange});
+        std::vector<uint8_t> yuyv(1024);
+        std::vector<uint8_t> grey(512);
+        for (int i = 0; i < 512; ++i) {
+            yuyv[size_t(2 * i)] = grey[size_t(i)] = uint8_t(i % 256);
+            yuyv[size_t(2 * i + 1)] = uint8_t(128);
+        }
+        Image8 rgb, luma, lumaOnly, greyRgb, greyLuma;
+        converter.convertYuyv(yuyv.data(), 512, 256, 2, rgb, luma);
+        converter.convertLuma(yuyv.data(), 512, 2, 256, 2, lumaOnly);
+        EXPECT_EQ(lumaOnly.data, luma.data);
+        converter.convertLuma(grey.data(), 256, 1, 256, 2, lumaOnly);
+        EXPECT_EQ(lumaOnly.data, luma.data);
+        converter.convertGrey(grey.data(), 256, 256, 2, greyRgb, greyLuma);
+        EXPECT_EQ(greyLuma.data, luma.data);
+        EXPECT_EQ(greyRgb.data, rgb.data); // Cb = Cr = 128: R = G = B = luma
+        if (fullRange) {
+            EXPECT_EQ(greyLuma.data, grey);
+        }
+    }
 }
 
 TEST(YCbCrConverter, ConversionCostAt720p)
