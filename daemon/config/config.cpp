@@ -297,6 +297,7 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
                 r.fail(node, "marker", "marker " + std::to_string(object.marker) + " is not listed in [[markers]]");
         }
         r.vec3("offset", object.offset);
+        r.number("heading", object.headingDeg, -360.0, 360.0);
         r.vec3("rotation", object.rotationDeg);
         r.number("scale", object.scale, 0.0, 1e6, true);
         r.number("size", object.size, 0.0, 1e3, true);

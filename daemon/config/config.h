@@ -113,7 +113,9 @@ struct ObjectConfig {
     int marker = 0;                  // id of the marker it sits on
     std::string map;                 // or the name of the [[maps]] entry it sits on (then `marker` is unused)
     glm::dvec3 offset{0.0};          // metres, marker frame
-    glm::dvec3 rotationDeg{0.0};     // XYZ Euler angles applied after the Y-up→Z-up turn
+    double headingDeg = 0.0;         // degrees about the marker's normal (+z), counter-clockwise from above
+    glm::dvec3 rotationDeg{0.0};     // degrees, Rz·Ry·Rx in the upright frame, before heading
+                                     // (app/object_placement.h has the whole composition)
     double scale = 1.0;              // uniform; or set `size` to fit the longest side
     double size = 0.0;               // metres; > 0 overrides scale
 };

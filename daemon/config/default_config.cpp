@@ -52,6 +52,7 @@ name = "truck"
 model = "models/CesiumMilkTruck.glb"
 marker = 0
 offset = [0.0, 0.0, 0.0]
+heading = 0.0
 rotation = [0.0, 0.0, 0.0]
 size = 0.2
 

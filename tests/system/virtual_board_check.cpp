@@ -87,9 +87,10 @@ int object(const fs::path& screenFile, const fs::path& configFile)
     if (config.objects.empty())
         throw InputError(configFile.string() + ": no [[objects]] to look for");
     const ObjectConfig& object = config.objects.front();
-    if (object.size <= 0.0 || !object.map.empty() || object.offset != glm::dvec3(0.0) ||
+    if (object.size <= 0.0 || !object.map.empty() || object.offset != glm::dvec3(0.0) || object.headingDeg != 0.0 ||
         object.rotationDeg != glm::dvec3(0.0))
-        throw InputError(configFile.string() + ": objects[0] must sit on a marker with `size`, no offset or rotation");
+        throw InputError(configFile.string() +
+                         ": objects[0] must sit on a marker with `size`, no offset, heading or rotation");
 
     const Image8 screen = readImage(screenFile, 3);
     const Image8 played = readImage(framePath(configFile), 3);
