@@ -8,9 +8,10 @@ packages=(
   dpkg-dev file
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev
   libglm-dev
-  libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev libopencv-imgcodecs-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev
+  libopencv-imgcodecs-dev # tests only: they read and write images with OpenCV
   libapriltag-dev
-  libopencv-contrib-dev # optional: the ArUco column of `lumar bench --tracking`
+  libopencv-contrib-dev # optional: the ArUco column of lumar-bench-tracking
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libturbojpeg0-dev v4l-utils
   libcamera-dev

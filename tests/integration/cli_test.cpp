@@ -1,9 +1,13 @@
 // The lumar command line as a user meets it: help, exit codes, and bad input reported in one
 // clear line naming the file — never a crash.
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <system_error>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sys/wait.h>
 
 #include "run_lumar.h"
 
@@ -174,6 +178,27 @@ TEST(Cli, BenchTrackingPrintsATableAndJson)
     EXPECT_EQ(j["frames_per_condition"], 2);
     EXPECT_EQ(j["rows"].size(), (j["conditions"].size() + 1) * j["detectors"].size());
     EXPECT_EQ(runLumar({"bench", "--tracking", "--frames-per-condition", "0"}, dir).exitCode, 2);
+}
+
+TEST(Cli, BenchTrackingNamesTheBenchmarkWhereItIsNotBuilt)
+{
+    // As installed: a lumar without lumar-bench-tracking next to it (a hard link, or a copy
+    // across file systems; /proc/self/exe names the link).
+    const auto dir = test::scratchDirectory("bench_tracking_alone");
+    const auto lumar = dir / "lumar";
+    std::error_code ec;
+    std::filesystem::create_hard_link(LUMAR_BINARY, lumar, ec);
+    if (ec)
+        std::filesystem::copy_file(LUMAR_BINARY, lumar);
+    const std::string command = test::shellQuote(lumar.string()) + " bench --tracking >" +
+                                test::shellQuote((dir / "out.txt").string()) + " 2>" +
+                                test::shellQuote((dir / "err.txt").string());
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+    const std::string err = test::readText(dir / "err.txt");
+    EXPECT_NE(err.find("lumar-bench-tracking"), std::string::npos) << err;
+    EXPECT_EQ(lineCount(err), 1u) << err;
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, CalibrateWritesAYamlThatLoads)

@@ -201,7 +201,18 @@ TEST_F(CalibrationFolder, NonImageNamedJpgIsNamed)
 {
     copySamples(3);
     std::ofstream(dir_ / "x.jpg") << "not a JPEG\n";
-    expectInputError(dir_, (dir_ / "x.jpg").string(), "cannot read as an image");
+    expectInputError(dir_, (dir_ / "x.jpg").string(), "cannot read the image");
+}
+
+TEST_F(CalibrationFolder, TruncatedImageIsNamed)
+{
+    copySamples(3);
+    // The first 5000 of left04.jpg's 25150 bytes: a valid header, then the data stops.
+    std::ifstream in(sampleImages()[3], std::ios::binary);
+    std::string bytes(5000, '\0');
+    ASSERT_TRUE(in.read(bytes.data(), std::streamsize(bytes.size())));
+    std::ofstream(dir_ / "left04.jpg", std::ios::binary) << bytes;
+    expectInputError(dir_, (dir_ / "left04.jpg").string(), "cannot read the image");
 }
 
 TEST_F(CalibrationFolder, ImageOfAnotherSizeIsNamed)

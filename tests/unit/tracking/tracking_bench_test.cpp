@@ -1,4 +1,4 @@
-// `lumar bench --tracking` (tracking/tracking_bench.h): a small run has every condition x
+// `lumar-bench-tracking` (bench/tracking_bench.h): a small run has every condition x
 // detector row, lumar finds every tag of the clean condition with sub-pixel corners, the
 // sequence's ground truth is what each condition promises, and the JSON parses. No timing is
 // asserted (benchmarks are not tests, DESIGN.md §9).
@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "bench/tracking_bench.h"
+#include "bench/tracking_bench_scene.h"
 #include "core/error.h"
-#include "tracking/tracking_bench.h"
-#include "tracking/tracking_bench_scene.h"
 
 namespace lumar {
 namespace {

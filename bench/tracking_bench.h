@@ -1,7 +1,7 @@
-// `lumar bench --tracking`: lumar's TagTracker, the AprilTag library with its defaults and
+// `lumar-bench-tracking`: lumar's TagTracker, the AprilTag library with its defaults and
 // (where OpenCV's contrib aruco module was found at build time) OpenCV's ArUco detector with
 // DICT_APRILTAG_36h11, run on the same synthetic frames with exact ground truth
-// (tracking/tracking_bench_scene.h) and scored side by side: recall, false positives, corner
+// (bench/tracking_bench_scene.h) and scored side by side: recall, false positives, corner
 // error, pose error and time. Results are measured here, never asserted in tests (DESIGN.md §9).
 #pragma once
 

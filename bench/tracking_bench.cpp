@@ -1,4 +1,4 @@
-#include "tracking/tracking_bench.h"
+#include "bench/tracking_bench.h"
 
 #include <algorithm>
 #include <array>
@@ -9,15 +9,16 @@
 #include <memory>
 
 #include <apriltag/apriltag.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #ifdef LUMAR_HAVE_ARUCO
 #include <opencv2/aruco.hpp>
 #endif
 
+#include "bench/tracking_bench_scene.h"
 #include "core/error.h"
 #include "tracking/apriltag_family.h"
 #include "tracking/tag_tracker.h"
-#include "tracking/tracking_bench_scene.h"
 
 namespace lumar {
 namespace {
@@ -277,27 +278,10 @@ std::string fixed(double v, int decimals)
     return std::string(text, end);
 }
 
-void appendJsonNumber(std::string& out, double v)
+// NaN and infinities (a rate without frames, an error without found tags) become null.
+nlohmann::ordered_json jsonNumber(double v)
 {
-    if (!std::isfinite(v)) {
-        out += "null";
-        return;
-    }
-    char text[64];
-    out.append(text, std::to_chars(text, text + sizeof(text), v, std::chars_format::general, 6).ptr);
-}
-
-void appendJsonString(std::string& out, const std::string& s)
-{
-    out += '"';
-    for (char c : s) {
-        if (c == '"' || c == '\\')
-            out += '\\';
-        if (static_cast<unsigned char>(c) < 0x20)
-            continue; // the strings here are our own; control characters never occur
-        out += c;
-    }
-    out += '"';
+    return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
 } // namespace
@@ -409,52 +393,34 @@ std::string trackingBenchMarkdown(const TrackingBenchReport& report)
 
 std::string trackingBenchJson(const TrackingBenchReport& report)
 {
-    std::string out = "{\"width\":" + std::to_string(report.options.width) +
-                      ",\"height\":" + std::to_string(report.options.height) +
-                      ",\"frames_per_condition\":" + std::to_string(report.options.framesPerCondition) +
-                      ",\"seed\":" + std::to_string(report.options.seed) + ",\"conditions\":[";
-    for (size_t i = 0; i < report.conditions.size(); ++i) {
-        out += i ? "," : "";
-        appendJsonString(out, report.conditions[i]);
-    }
-    out += "],\"detectors\":[";
-    for (size_t i = 0; i < report.detectors.size(); ++i) {
-        out += i ? "," : "";
-        appendJsonString(out, report.detectors[i]);
-    }
-    out += "],\"rows\":[";
-    for (size_t i = 0; i < report.rows.size(); ++i) {
-        const TrackingBenchRow& r = report.rows[i];
-        out += i ? ",{\"condition\":" : "{\"condition\":";
-        appendJsonString(out, r.condition);
-        out += ",\"detector\":";
-        appendJsonString(out, r.detector);
-        out += ",\"frames\":" + std::to_string(r.frames) + ",\"visible_tags\":" + std::to_string(r.visibleTags) +
-               ",\"found\":" + std::to_string(r.found) + ",\"false_positives\":" + std::to_string(r.falsePositives);
-        const std::pair<const char*, double> numbers[] = {{"recall", r.recall},
-                                                          {"false_positives_per_frame", r.falsePositivesPerFrame},
-                                                          {"corner_mean_px", r.cornerMeanPx},
-                                                          {"corner_p95_px", r.cornerP95Px},
-                                                          {"rotation_mean_deg", r.rotationMeanDeg},
-                                                          {"rotation_p95_deg", r.rotationP95Deg},
-                                                          {"translation_mean_percent", r.translationMeanPercent},
-                                                          {"translation_p95_percent", r.translationP95Percent},
-                                                          {"ms_per_frame", r.msPerFrame}};
-        for (const auto& [key, value] : numbers) {
-            out += std::string(",\"") + key + "\":";
-            appendJsonNumber(out, value);
-        }
-        out += "}";
-    }
-    out += "],\"lumar_over_apriltag_time\":";
-    appendJsonNumber(out, report.lumarOverAprilTagTime);
-    out += ",\"notes\":[";
-    for (size_t i = 0; i < report.notes.size(); ++i) {
-        out += i ? "," : "";
-        appendJsonString(out, report.notes[i]);
-    }
-    out += "]}\n";
-    return out;
+    // ordered_json keeps the keys in the order written here, the order of the table's columns.
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const TrackingBenchRow& r : report.rows)
+        rows.push_back({{"condition", r.condition},
+                        {"detector", r.detector},
+                        {"frames", r.frames},
+                        {"visible_tags", r.visibleTags},
+                        {"found", r.found},
+                        {"false_positives", r.falsePositives},
+                        {"recall", jsonNumber(r.recall)},
+                        {"false_positives_per_frame", jsonNumber(r.falsePositivesPerFrame)},
+                        {"corner_mean_px", jsonNumber(r.cornerMeanPx)},
+                        {"corner_p95_px", jsonNumber(r.cornerP95Px)},
+                        {"rotation_mean_deg", jsonNumber(r.rotationMeanDeg)},
+                        {"rotation_p95_deg", jsonNumber(r.rotationP95Deg)},
+                        {"translation_mean_percent", jsonNumber(r.translationMeanPercent)},
+                        {"translation_p95_percent", jsonNumber(r.translationP95Percent)},
+                        {"ms_per_frame", jsonNumber(r.msPerFrame)}});
+    const nlohmann::ordered_json j = {{"width", report.options.width},
+                                      {"height", report.options.height},
+                                      {"frames_per_condition", report.options.framesPerCondition},
+                                      {"seed", report.options.seed},
+                                      {"conditions", report.conditions},
+                                      {"detectors", report.detectors},
+                                      {"rows", std::move(rows)},
+                                      {"lumar_over_apriltag_time", jsonNumber(report.lumarOverAprilTagTime)},
+                                      {"notes", report.notes}};
+    return j.dump() + "\n";
 }
 
 } // namespace lumar

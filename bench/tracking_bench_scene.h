@@ -1,4 +1,4 @@
-// The synthetic sequence of `lumar bench --tracking`: tag36h11 markers lying on a cluttered
+// The synthetic sequence of `lumar-bench-tracking`: tag36h11 markers lying on a cluttered
 // plane, seen by a pinhole camera on a smooth seeded path, rendered with OpenCV (tags
 // supersampled 4x4 so their edges are sub-pixel exact) and then degraded per condition
 // (noise, motion blur, defocus, low light, occlusion, steep views, several tags, no tags).

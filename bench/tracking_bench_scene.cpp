@@ -1,4 +1,4 @@
-#include "tracking/tracking_bench_scene.h"
+#include "bench/tracking_bench_scene.h"
 
 #include <algorithm>
 #include <cmath>
