@@ -1,20 +1,18 @@
-// A small command-line parser shared by the subcommands: long options with a value
-// ("--frames 30" or "--frames=30"), flags ("--json"), repeatable options and positional
-// arguments. Misuse throws UsageError, which main turns into exit code 2 and a hint.
+// The hand-written parser the subcommands used before CLI11 (lumar_command_line.cpp). Only
+// `lumar bench --tracking` (tracking_bench_command.cpp) still uses it; it leaves the binary
+// in issue 14, and this file, command_line.cpp and tests/unit/core/command_line_test.cpp go
+// with it. Long options with a value ("--frames 30" or "--frames=30"), flags ("--json"),
+// repeatable options and positional arguments; misuse throws UsageError.
 #pragma once
 
 #include <map>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace lumar {
+#include "usage_error.h"
 
-class UsageError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
+namespace lumar {
 
 struct OptionSpec {
     std::string name; // without the leading "--"
