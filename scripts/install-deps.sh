@@ -16,6 +16,7 @@ packages=(
   libturbojpeg0-dev v4l-utils
   libcamera-dev
   libtomlplusplus-dev
+  libcli11-dev # the command line (daemon/cli/lumar_command_line.cpp)
   libsystemd-dev
   libgtest-dev googletest
   glslang-tools

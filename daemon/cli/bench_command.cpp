@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
 #include "core/error.h"
@@ -17,24 +16,6 @@
 
 namespace lumar {
 namespace {
-
-constexpr const char* kHelp =
-    R"(usage: lumar bench [--config FILE] [--frames N] [--warmup N] [--json] [--no-profile] [--sync-detection]
-                   [--log-level SPEC]
-       lumar bench --tracking [options]   (see 'lumar bench --tracking --help')
-
-Runs N frames (default 300, after 10 warm-up frames) of the configured scene through the
-whole pipeline without pacing or output, and prints frames per second, frame-time
-percentiles, the mean time of each stage and the resident memory. Capture runs one frame
-ahead on its own thread, so "capture" is the time the pipeline waited for it.
-The render stage is split into its parts (environment maps, SH projection with the diffuse
-map, glossy prefilter, shading of the frame) by waiting for the GPU between them, which a
-GPU would otherwise overlap with the next stage; --no-profile measures without the waits.
-  --json         one JSON object instead of a table
-  --no-profile   do not split the render stage
-  --sync-detection   detect in the render loop (as `lumar render` does) instead of on a
-                     worker thread (as `lumar run` does); "detect" is then time in the loop
-)";
 
 double percentile(std::vector<double> values, double p)
 {
@@ -67,32 +48,16 @@ double residentMegabytes()
 
 } // namespace
 
-int benchCommand(const Args& args)
+int benchCommand(const BenchCommandOptions& options)
 {
-    // The tracking benchmark has its own options (tracking_bench_command.cpp).
-    if (std::find(args.begin(), args.end(), "--tracking") != args.end())
-        return trackingBenchCommand(args);
-    const CommandLine cl(args, {{"config"},
-                                {"frames"},
-                                {"warmup"},
-                                {"json", false},
-                                {"no-profile", false},
-                                {"sync-detection", false},
-                                {"log-level"}});
-    if (cl.helpRequested()) {
-        std::fputs(kHelp, stdout);
-        return kExitOk;
-    }
-    if (!cl.positional().empty())
-        throw UsageError("unexpected argument '" + cl.positional().front() + "'");
-    const long frames = cl.integer("frames", 300, 1, 1000000);
-    const long warmup = cl.integer("warmup", 10, 0, 10000);
+    const long frames = options.frames;
+    const long warmup = options.warmup;
 
-    const Config config = configFromCommandLine(cl);
-    const bool profile = !cl.has("no-profile");
+    const Config config = configFromOptions(options.config);
+    const bool profile = !options.noProfile;
     Pipeline pipeline(config, profile);
     // As the daemon runs: detection on its own thread, never waited for.
-    if (!cl.has("sync-detection"))
+    if (!options.syncDetection)
         pipeline.detectInBackground();
     FrameReport report;
     for (long i = 0; i < warmup; ++i)
@@ -127,7 +92,7 @@ int benchCommand(const Args& args)
     const double fps = seconds > 0 ? double(measured) / seconds : 0.0;
     const int width = pipeline.output().width, height = pipeline.output().height;
 
-    if (cl.has("json")) {
+    if (options.json) {
         Json stages = {{"capture", jsonDecimals(mean(captureMs), 3)},
                        {"detect", jsonDecimals(mean(detectMs), 3)},
                        {"render", jsonDecimals(mean(renderMs), 3)},

@@ -3,7 +3,6 @@
 // wrong" on stderr.
 #include <cstdio>
 
-#include "command_line.h"
 #include "commands.h"
 #include "config/board_profile.h"
 #include "config/config.h"
@@ -11,20 +10,9 @@
 
 namespace lumar {
 
-int checkConfigCommand(const Args& args)
+int checkConfigCommand(const CheckConfigCommandOptions& options)
 {
-    const CommandLine cl(args, {});
-    if (cl.helpRequested()) {
-        std::fputs("usage: lumar check-config FILE\n\nValidates FILE: syntax, keys, types, ranges and that "
-                   "referenced files exist.\nA file with a [board] table is checked as a board profile "
-                   "(board/README.md).\nPrints 'FILE: ok' and exits 0, or prints the first error as "
-                   "FILE:LINE: message and exits 2.\n",
-                   stdout);
-        return kExitOk;
-    }
-    if (cl.positional().size() != 1)
-        throw UsageError("expected exactly one FILE");
-    const std::string& file = cl.positional().front();
+    const std::string& file = options.file;
     try {
         if (isBoardProfileFile(file))
             (void)loadBoardProfile(file);

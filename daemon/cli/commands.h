@@ -1,28 +1,86 @@
-// The subcommands of the lumar binary (DESIGN.md §2). Each takes the arguments after its
-// name, writes its result to stdout, logs to stderr, and returns an exit code; InputError,
-// RuntimeError and UsageError thrown out of them are turned into exit codes by main.
+// The subcommands of the lumar binary (DESIGN.md §2). Each takes its options already parsed
+// and checked (lumar_command_line.cpp declares them: names, types, ranges, defaults, help),
+// writes its result to stdout, logs to stderr, and returns an exit code; InputError,
+// RuntimeError and UsageError thrown out of them are turned into exit codes there.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace lumar {
 
-using Args = std::vector<std::string>;
+struct Config;
 
-int renderCommand(const Args& args);
-int runCommand(const Args& args);
-int checkConfigCommand(const Args& args);
-int detectCommand(const Args& args);
-int benchCommand(const Args& args);
-int trackingBenchCommand(const Args& args); // lumar bench --tracking
-int probeCommand(const Args& args);
-int calibrateCommand(const Args& args);
+// --config FILE and --log-level SPEC, shared by the commands that run the pipeline.
+struct ConfigOptions {
+    std::optional<std::string> file;     // absent: the built-in default configuration
+    std::optional<std::string> logLevel; // absent: the configuration's log_level
+};
+
+struct RenderCommandOptions {
+    ConfigOptions config;
+    long frames = 30;
+    std::vector<std::string> outputs; // at least one
+    std::optional<std::string> trace;
+};
+
+struct RunCommandOptions {
+    ConfigOptions config;
+    long frames = 0; // 0: until SIGINT or SIGTERM
+};
+
+struct CheckConfigCommandOptions {
+    std::string file;
+};
+
+struct DetectCommandOptions {
+    double tagSize = 0;
+    std::optional<std::string> calibration;
+    std::string family = "tag36h11";
+    double decimate = 1.0;
+    std::string logLevel = "warn";
+    std::vector<std::string> images; // at least one
+};
+
+struct BenchCommandOptions {
+    ConfigOptions config;
+    long frames = 300;
+    long warmup = 10;
+    bool json = false;
+    bool noProfile = false;
+    bool syncDetection = false;
+};
+
+struct ProbeCommandOptions {
+    std::vector<std::string> devices; // in addition to every /dev/video*
+};
+
+struct CalibrateCommandOptions {
+    std::string images;
+    int boardColumns = 0, boardRows = 0; // inner corners
+    double square = 0;
+    std::string out;
+    std::string logLevel = "warn";
+};
+
+int renderCommand(const RenderCommandOptions& options);
+int runCommand(const RunCommandOptions& options);
+int checkConfigCommand(const CheckConfigCommandOptions& options);
+int detectCommand(const DetectCommandOptions& options);
+int benchCommand(const BenchCommandOptions& options);
+int probeCommand(const ProbeCommandOptions& options);
+int calibrateCommand(const CalibrateCommandOptions& options);
+
+// lumar bench --tracking parses its own arguments (those after "bench").
+using Args = std::vector<std::string>;
+int trackingBenchCommand(const Args& args);
+
+// Applies a --log-level SPEC; throws UsageError for a malformed one.
+void configureLogLevel(const std::string& spec);
 
 // Loads --config FILE if given, else the built-in default, and applies its log level unless
 // --log-level overrides it.
-struct Config;
-class CommandLine;
-Config configFromCommandLine(const CommandLine& cl);
+Config configFromOptions(const ConfigOptions& options);
 
 } // namespace lumar

@@ -1,17 +1,20 @@
-#include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
 #include "core/log.h"
+#include "usage_error.h"
 
 namespace lumar {
 
-Config configFromCommandLine(const CommandLine& cl)
+void configureLogLevel(const std::string& spec)
 {
-    const auto file = cl.value("config");
-    Config config = file ? loadConfig(*file) : defaultConfig();
-    const std::string level = cl.value("log-level").value_or(config.logLevel);
-    if (!log::configure(level))
-        throw UsageError("bad log level '" + level + "' (e.g. info, or capture:debug,*:warn)");
+    if (!log::configure(spec))
+        throw UsageError("bad log level '" + spec + "' (e.g. info, or capture:debug,*:warn)");
+}
+
+Config configFromOptions(const ConfigOptions& options)
+{
+    Config config = options.file ? loadConfig(*options.file) : defaultConfig();
+    configureLogLevel(options.logLevel.value_or(config.logLevel));
     return config;
 }
 

@@ -3,59 +3,29 @@
 // processed, and the exit code is then 2.
 #include <cstdio>
 
-#include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
 #include "core/error.h"
-#include "core/log.h"
 #include "output/frame_writer.h"
 #include "tracking/calibration_io.h"
 #include "tracking/detection_json.h"
 #include "tracking/tag_tracker.h"
 
 namespace lumar {
-namespace {
 
-constexpr const char* kHelp = R"(usage: lumar detect --tag-size M [--calib FILE] [--family NAME] [--decimate D]
-                    [--log-level SPEC] IMAGE...
-
-Detects AprilTags and prints, per image, one line:
-  {"file":..., "detections":[{"id":..,"corners":[[x,y]x4],"R":[[..]x3],"t":[..]}]}
-Corners are in the AprilTag library's order, in OpenCV's pixel convention (pixel centres at
-integer coordinates). R and t map the tag frame (x right, y up, z out of the tag, metres)
-into the camera frame. Without --calib an ideal camera with a 70 degree horizontal field of
-view is assumed.
-  --tag-size M   tag side in metres, black border to black border
-  --family NAME  tag family (default tag36h11)
-  --decimate D   quad_decimate (default 1: full resolution, best for stills)
-)";
-
-} // namespace
-
-int detectCommand(const Args& args)
+int detectCommand(const DetectCommandOptions& options)
 {
-    const CommandLine cl(args, {{"tag-size"}, {"calib"}, {"family"}, {"decimate"}, {"log-level"}});
-    if (cl.helpRequested()) {
-        std::fputs(kHelp, stdout);
-        return kExitOk;
-    }
-    if (!cl.has("tag-size"))
-        throw UsageError("--tag-size M is required");
-    if (cl.positional().empty())
-        throw UsageError("no IMAGE given");
-    if (!log::configure(cl.value("log-level").value_or("warn")))
-        throw UsageError("bad --log-level");
-
+    configureLogLevel(options.logLevel);
     TrackingConfig tracking;
-    tracking.family = cl.value("family").value_or("tag36h11");
-    tracking.quadDecimate = cl.number("decimate", 1.0, 1.0, 8.0);
+    tracking.family = options.family;
+    tracking.quadDecimate = options.decimate;
     TagSizes sizes;
-    sizes.fallback = cl.number("tag-size", 0.0, 1e-4, 100.0);
-    const auto calibration = cl.value("calib");
+    sizes.fallback = options.tagSize;
+    const auto& calibration = options.calibration;
     const CameraIntrinsics calibrated = calibration ? loadCalibration(*calibration) : CameraIntrinsics{};
 
     int exitCode = kExitOk;
-    for (const std::string& file : cl.positional()) {
+    for (const std::string& file : options.images) {
         try {
             const Image8 luma = readImage(file, 1);
             CameraIntrinsics k = calibration ? calibrated : defaultIntrinsics(luma.width, luma.height);

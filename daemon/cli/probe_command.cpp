@@ -7,7 +7,6 @@
 
 #include "capture/libcamera/libcamera_probe.h"
 #include "capture/v4l2/v4l2_probe.h"
-#include "command_line.h"
 #include "commands.h"
 #include "core/error.h"
 #include "gles_renderer/display/drm_probe.h"
@@ -15,13 +14,6 @@
 
 namespace lumar {
 namespace {
-
-constexpr const char* kHelp = R"(usage: lumar probe [--device PATH ...]
-
-Lists V4L2 cameras (every /dev/video*, plus each --device) with their pixel formats and frame
-sizes, libcamera cameras with their viewfinder formats and sizes, the EGL/GLES implementation
-with the extensions lumar uses, and DRM devices with their connectors, modes and planes.
-)";
 
 void printCameras(const std::vector<std::string>& devices)
 {
@@ -103,17 +95,10 @@ void printDisplays()
 
 } // namespace
 
-int probeCommand(const Args& args)
+int probeCommand(const ProbeCommandOptions& options)
 {
-    const CommandLine cl(args, {{"device", true, true}});
-    if (cl.helpRequested()) {
-        std::fputs(kHelp, stdout);
-        return kExitOk;
-    }
-    if (!cl.positional().empty())
-        throw UsageError("unexpected argument '" + cl.positional().front() + "'");
     std::vector<std::string> devices = listVideoDevices();
-    for (const std::string& device : cl.values("device"))
+    for (const std::string& device : options.devices)
         if (std::find(devices.begin(), devices.end(), device) == devices.end())
             devices.push_back(device);
     printCameras(devices);

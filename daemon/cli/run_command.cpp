@@ -12,7 +12,6 @@
 #include <utility>
 
 #include "capture/reconnecting_source.h"
-#include "command_line.h"
 #include "commands.h"
 #include "config/config.h"
 #include "config_watcher.h"
@@ -27,27 +26,6 @@
 
 namespace lumar {
 namespace {
-
-constexpr const char* kHelp = R"(usage: lumar run [--config FILE] [--frames N] [--log-level SPEC]
-
-Runs the AR pipeline continuously until SIGINT or SIGTERM (or N frames when --frames is
-given). The output goes to the configured sink: [output] path = "x.png" keeps a still of
-the newest frame (rewritten once a second, atomically), "x.y4m" records every frame; with
-sink = "kms" every frame is shown on a DRM/KMS display (the board profile's [display] and
-[output]'s drm_device, connector, plane and mode choose it), or, without a DRM device, the
-path is written instead. The display is chosen once: a reload keeps it.
-
-The configuration file is reloaded when it changes on disk (editors and mv included) or on
-SIGHUP; a file with an error is rejected with its FILE:LINE message and the last good
-configuration keeps running. A new file keeps the running camera unless its [camera]
-changed, and the GL context unless its [rendering] or display settings changed; models,
-markers, maps, objects and tracking settings are replaced in place. The start-up time (to
-the first presented frame) and each reload's duration are logged and written to the status
-file as startup_ms and last_reload_ms.
-
-Under systemd (Type=notify) it reports READY=1 after the first frame, WATCHDOG=1 while
-frames flow, and STATUS= with fps and tracking state.
-)";
 
 std::atomic<bool> gStopRequested{false};
 std::atomic<bool> gReloadRequested{false};
@@ -214,25 +192,18 @@ bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& sc
 
 } // namespace
 
-int runCommand(const Args& args)
+int runCommand(const RunCommandOptions& options)
 {
-    const CommandLine cl(args, {{"config"}, {"frames"}, {"log-level"}});
-    if (cl.helpRequested()) {
-        std::fputs(kHelp, stdout);
-        return kExitOk;
-    }
-    if (!cl.positional().empty())
-        throw UsageError("unexpected argument '" + cl.positional().front() + "'");
-    const long maxFrames = cl.integer("frames", 0, 0, 1L << 40);
+    const long maxFrames = options.frames;
     const auto commandStarted = std::chrono::steady_clock::now(); // start-up's fallback origin
 
-    const Config config = configFromCommandLine(cl);
+    const Config config = configFromOptions(options.config);
     // Declared before the scene: its renderers draw on the display's EGL display.
     std::unique_ptr<KmsDisplay> display;
     if (config.output.sink == "kms")
         display = openKmsDisplay(config);
     auto scene = std::make_unique<RunningScene>(config, display.get());
-    const auto configFile = cl.value("config");
+    const std::optional<std::string>& configFile = options.config.file;
     std::optional<ConfigWatcher> watcher;
     if (configFile)
         watcher.emplace(*configFile);

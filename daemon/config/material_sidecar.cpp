@@ -158,7 +158,7 @@ private:
 };
 
 MaterialOverride readEntry(const toml::table& table, const std::string& keyPath, const std::string& fileName,
-                               const std::filesystem::path& baseDir)
+                           const std::filesystem::path& baseDir)
 {
     EntryReader r(table, keyPath, fileName);
     r.rejectUnknownKeys({"preset", "diffuse", "specular", "lobe", "exponent", "fresnel_phi", "tangent_rotation",

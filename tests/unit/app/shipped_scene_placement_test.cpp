@@ -19,8 +19,8 @@
 
 #include "config/config.h"
 #include "core/error.h"
-#include "gles_renderer/builtin_shapes.h"
-#include "gles_renderer/gltf_model.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "object_placement.h"
 
 namespace lumar {
