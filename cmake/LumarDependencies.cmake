@@ -6,6 +6,8 @@ find_package(glm REQUIRED CONFIG)
 find_package(TinyGLTF REQUIRED CONFIG)
 find_package(tomlplusplus REQUIRED CONFIG)
 find_package(GTest REQUIRED)
+# Mesh simplification for the environment maps' stand-ins; Debian 12 has 0.18.
+find_package(meshoptimizer REQUIRED CONFIG)
 
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)

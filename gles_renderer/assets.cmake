@@ -19,4 +19,4 @@ add_library(lumar_assets STATIC
   "${CMAKE_CURRENT_LIST_DIR}/tangent_space.cpp")
 target_link_libraries(lumar_assets
   PUBLIC lumar_core
-  PRIVATE TinyGLTF::TinyGLTF PkgConfig::STB tomlplusplus::tomlplusplus lumar_build_flags)
+  PRIVATE TinyGLTF::TinyGLTF PkgConfig::STB meshoptimizer::meshoptimizer tomlplusplus::tomlplusplus lumar_build_flags)
