@@ -8,6 +8,8 @@ find_package(TinyGLTF REQUIRED CONFIG)
 find_package(tomlplusplus REQUIRED CONFIG)
 # The command line (daemon/cli/lumar_command_line.cpp); header-only, Debian 12 has 2.1.2.
 find_package(CLI11 REQUIRED CONFIG)
+# Mesh simplification for the environment maps' stand-ins; Debian 12 has 0.18.
+find_package(meshoptimizer REQUIRED CONFIG)
 
 pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
 pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)

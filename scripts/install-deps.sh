@@ -13,6 +13,7 @@ packages=(
   libapriltag-dev
   libopencv-contrib-dev # optional: the ArUco column of lumar-bench-tracking
   libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libmeshoptimizer-dev
   libturbojpeg0-dev v4l-utils
   libcamera-dev
   libtomlplusplus-dev

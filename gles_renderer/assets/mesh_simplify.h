@@ -1,23 +1,29 @@
-// Cheap stand-ins for the environment maps: a primitive simplified by vertex clustering
-// (Rossignac & Borrel 1993). Every vertex snaps to a cell of a regular grid; the cell's
-// vertex is the mean of those in it; triangles that collapse are dropped. A neighbour seen
-// in a 64-pixel cube face spans tens of pixels, so a grid of about as many cells along the
-// model loses nothing visible there and removes most of the triangles.
+// Cheap stand-ins for the environment maps: a primitive simplified by meshoptimizer's
+// error-bounded edge collapse (meshopt_simplify, quadric error metric; Debian's 0.18).
+// Vertices keep their positions and attributes (a collapse moves a vertex onto a
+// neighbour, never to an average), borders and uv/normal seams stay closed, and the
+// collapses stop where the error bound would be passed. A neighbour seen in a 64-pixel cube
+// face spans tens of pixels, so an error well under a pixel loses nothing visible there
+// and removes most of the triangles of a dense mesh. Vertices where several seams meet are
+// not collapsed in 0.18, so a mesh split into many flat-shaded pieces (CesiumMilkTruck)
+// keeps most of its triangles.
 #pragma once
-
-#include <glm/glm.hpp>
 
 #include "gles_renderer/assets/gltf_model.h"
 
 namespace lumar {
 
-// `cellSize`: the grid step in the primitive's own (mesh) coordinates, > 0. Returns a
-// primitive with the same material and transform; normals and tangents averaged and
-// renormalised, uvs averaged (textures on stand-ins only need to be roughly right).
-GltfPrimitive simplifyByClustering(const GltfPrimitive& primitive, float cellSize);
+// `maxError`: meshoptimizer's error bound in the primitive's own (mesh) coordinates, > 0:
+// about how far the simplified surface may stray from the original (a quadric error, so a
+// single vertex may stray a few times further; see makeProxyModel). Returns a primitive
+// with the same material and transform holding only the vertices its triangles use.
+// Throws InputError for mismatched attribute arrays or indices that are not whole
+// triangles within the vertices.
+GltfPrimitive simplifyPrimitive(const GltfPrimitive& primitive, float maxError);
 
-// A stand-in for the whole model with about `cellsAlongLongestSide` cells along the longest
-// side of its bounds (in model space; each primitive's grid accounts for its transform's scale).
+// A stand-in for the whole model whose surface stays within a "cell", 1/`cellsAlongLongestSide`
+// of the longest side of its bounds (in model space; each primitive's bound accounts for its
+// transform's scale): the level semantics of the vertex clustering grid this replaced.
 GltfModel makeProxyModel(const GltfModel& model, int cellsAlongLongestSide);
 
 } // namespace lumar

@@ -17,8 +17,8 @@
 namespace lumar {
 namespace {
 
-// The stand-ins' grid sizes, finest first; each two thirds to three quarters of the one
-// before, so the chosen level's cells rarely span much less than kProxyMaxCellPixels.
+// The stand-ins' levels (cells along the longest side), finest first; each two thirds to
+// three quarters of the one before, so the chosen level's cells rarely span much less than kProxyMaxCellPixels.
 constexpr int kProxyLevelCells[] = {kProxyMaxCells, 32, 24, 16, 12, 8};
 // A coarser level is kept only where it removes at least this share of the triangles of the
 // last level kept: a cube stays one level, a sphere seen small still gets coarser ones.

@@ -46,21 +46,21 @@ struct GpuModel {
     std::vector<GlTexture> textures;            // parallel to GltfModel::textures; unused ones stay empty
     std::vector<GpuMaterial> materials;         // the model's materials, then glTF's default material
     std::vector<GpuPrimitive> primitives;
-    // The same model simplified by vertex clustering (mesh_simplify.h) at several grid
-    // sizes, drawn into the environment maps where it spans tens of pixels; same materials.
+    // The same model simplified (mesh_simplify.h) to several error bounds, drawn into the
+    // environment maps where it spans tens of pixels; same materials.
     struct ProxyLevel {
-        int cells = 0; // grid cells along the model's longest side
+        int cells = 0; // its surface within a "cell", the model's longest side / cells
         std::vector<GpuPrimitive> primitives;
     };
     std::vector<ProxyLevel> proxyLevels; // finest first; never empty after uploadModel
 };
 
-// Grid cells along a model's longest side for its finest environment-map stand-in: a
+// Cells along a model's longest side for its finest environment-map stand-in: a
 // neighbour in a 64-pixel face rarely spans more pixels than that.
 inline constexpr int kProxyMaxCells = 48;
-// The widest a stand-in's grid cell may appear, in pixels, when its level is chosen: vertex
-// clustering moves a vertex less than a cell, and llvmpipe shades every triangle in whole
-// 4x4 blocks, so sub-pixel triangles (the finest level seen from afar) cost up to 16
+// The widest a stand-in's cell may appear, in pixels, when its level is chosen: its surface
+// strays less than a cell from the model's, and llvmpipe shades every triangle in whole 4x4
+// blocks, so sub-pixel triangles (the finest level seen from afar) cost up to 16
 // fragment-shader runs per pixel they cover.
 inline constexpr double kProxyMaxCellPixels = 1.0;
 

@@ -38,7 +38,7 @@ public:
     // `skip`: an item index not to draw (an environment map's owner), or -1.
     // `phantoms`: Shaded draws phantom items like the rest (environment maps); DepthOnly
     // draws them first into depth alone (the frame: the camera image shows them).
-    // `detail`: Full meshes (the frame) or their clustered Proxy stand-ins (environment maps),
+    // `detail`: Full meshes (the frame) or their simplified Proxy stand-ins (environment maps),
     // each item's level chosen by proxyLevelFor from its size in pixels: `focalPixels` is
     // the view's focal length in pixels (<= 0: unknown, the finest levels).
     enum class Phantoms { Shaded, DepthOnly };
