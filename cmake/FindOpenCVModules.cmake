@@ -15,10 +15,12 @@ message(STATUS "OpenCV modules: ${_lumar_opencv_libs}")
 
 # imgcodecs (image files) only for the tests that read and write images with OpenCV; lumar
 # decodes with stb_image, so the binary and its package do not depend on imgcodecs' closure.
-find_library(OPENCV_imgcodecs_LIBRARY NAMES opencv_imgcodecs REQUIRED)
-add_library(lumar_opencv_imgcodecs INTERFACE)
-target_link_libraries(lumar_opencv_imgcodecs INTERFACE lumar_opencv ${OPENCV_imgcodecs_LIBRARY})
-add_library(lumar::opencv_imgcodecs ALIAS lumar_opencv_imgcodecs)
+if(LUMAR_BUILD_TESTS)
+  find_library(OPENCV_imgcodecs_LIBRARY NAMES opencv_imgcodecs REQUIRED)
+  add_library(lumar_opencv_imgcodecs INTERFACE)
+  target_link_libraries(lumar_opencv_imgcodecs INTERFACE lumar_opencv ${OPENCV_imgcodecs_LIBRARY})
+  add_library(lumar::opencv_imgcodecs ALIAS lumar_opencv_imgcodecs)
+endif()
 
 # Optional: OpenCV's contrib aruco module (Debian: libopencv-contrib-dev), only for the ArUco
 # column of lumar-bench-tracking (bench/); without it that detector is skipped.

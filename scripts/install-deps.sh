@@ -1,29 +1,36 @@
 #!/usr/bin/env bash
-# Installs every build, run and test dependency of lumar from Debian 12 packages.
-# Idempotent: packages already present are left alone. Works as root or through sudo.
+# Installs every build, run and test dependency of lumar from Debian 12 packages; with
+# --build-only, just what building and running lumar needs (no test tools, no QEMU). Idempotent: packages already present are left alone. Works as root or through sudo.
 set -euo pipefail
 
-packages=(
+# What building and running lumar needs (scripts/demo.sh installs only these: --build-only).
+build_packages=(
   build-essential cmake ninja-build pkg-config git
-  dpkg-dev file
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libgbm-dev libdrm-dev
   libglm-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev
-  libopencv-imgcodecs-dev # tests only: they read and write images with OpenCV
   libapriltag-dev
-  libopencv-contrib-dev # optional: the ArUco column of lumar-bench-tracking
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libmeshoptimizer-dev
-  libturbojpeg0-dev v4l-utils
+  libturbojpeg0-dev
   libcamera-dev
   libtomlplusplus-dev
   libcli11-dev # the command line (daemon/cli/lumar_command_line.cpp)
   libsystemd-dev
-  libgtest-dev googletest
   glslang-tools
+)
+# What the test suite needs on top.
+test_packages=(
+  dpkg-dev file # scripts/check-deb.sh: the Debian package and its Depends
+  libopencv-imgcodecs-dev # tests only: they read and write images with OpenCV
+  libopencv-contrib-dev # optional: the ArUco column of lumar-bench-tracking
+  v4l-utils # v4l2-compliance and v4l2-ctl against the virtual camera
+  libgtest-dev googletest
   clang-format
   qemu-system-x86 busybox-static cpio # scripts/virtual-board.sh: the virtual board system test
 )
+packages=("${build_packages[@]}")
+[ "${1:-}" = "--build-only" ] || packages+=("${test_packages[@]}")
 
 missing=()
 for p in "${packages[@]}"; do

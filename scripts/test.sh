@@ -8,14 +8,14 @@ bash "$top/scripts/install-deps.sh"
 
 if [ "${1:-}" != "--sanitize" ]; then
   export LUMAR_BUILD_DIR=$top/build
-  bash "$top/scripts/build.sh"
+  bash "$top/scripts/build.sh" -DLUMAR_BUILD_TESTS=ON
   cd "$LUMAR_BUILD_DIR"
   ctest --output-on-failure -j "$jobs"
   exit 0
 fi
 
 export LUMAR_BUILD_DIR=$top/build-asan
-bash "$top/scripts/build.sh" -DLUMAR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+bash "$top/scripts/build.sh" -DLUMAR_BUILD_TESTS=ON -DLUMAR_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
 cd "$LUMAR_BUILD_DIR"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # Leak checking everywhere except where Mesa runs: its llvmpipe driver is dlclose()d at
