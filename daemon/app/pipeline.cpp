@@ -8,12 +8,12 @@
 
 #include "capture/factory/capture_factory.h"
 #include "capture/prefetching_source.h"
-#include "config/material_sidecar.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/environment_map.h"
 #include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/assets/material_overrides.h"
 #include "gles_renderer/gl/gl_probe.h"
 #include "object_placement.h"
 #include "tracking/calibration_io.h"
@@ -85,7 +85,7 @@ GltfModel loadObjectModel(const ObjectConfig& object)
                            ? makeBuiltinShape(std::string_view(model).substr(kBuiltinModelPrefix.size()))
                            : loadGltfModel(object.model);
     if (!object.materials.empty())
-        applyMaterialOverrides(loaded, loadMaterialSidecar(object.materials));
+        applyMaterialOverrides(loaded, object.materialOverrides);
     if (!object.material.empty()) {
         MaterialOverrides everything;
         everything.materials["*"].preset = object.material;

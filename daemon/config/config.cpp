@@ -269,7 +269,7 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
         }
         r.path("materials", object.materials, ctx.baseDir, Expect::File);
         if (!object.materials.empty())
-            loadMaterialSidecar(object.materials); // reports its own FILE:LINE errors
+            object.materialOverrides = loadMaterialSidecar(object.materials); // reports its own FILE:LINE errors
         r.string("material", object.material);
         if (!object.material.empty() && !materialPreset(object.material)) {
             std::string known;

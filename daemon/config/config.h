@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "config/board_profile.h"
+#include "gles_renderer/assets/material_overrides.h"
 
 namespace lumar {
 
@@ -107,17 +108,18 @@ struct MapConfig {
 
 struct ObjectConfig {
     std::string name;
-    std::filesystem::path model;     // glTF 2.0 (.gltf or .glb), or "builtin:sphere" / "builtin:cube"
-    std::filesystem::path materials; // optional sidecar TOML of Lafortune materials
-    std::string material;            // optional preset for every material (e.g. "chrome")
-    int marker = 0;                  // id of the marker it sits on
-    std::string map;                 // or the name of the [[maps]] entry it sits on (then `marker` is unused)
-    glm::dvec3 offset{0.0};          // metres, marker frame
-    double headingDeg = 0.0;         // degrees about the marker's normal (+z), counter-clockwise from above
-    glm::dvec3 rotationDeg{0.0};     // degrees, Rz·Ry·Rx in the upright frame, before heading
-                                     // (app/object_placement.h has the whole composition)
-    double scale = 1.0;              // uniform; or set `size` to fit the longest side
-    double size = 0.0;               // metres; > 0 overrides scale
+    std::filesystem::path model;         // glTF 2.0 (.gltf or .glb), or "builtin:sphere" / "builtin:cube"
+    std::filesystem::path materials;     // optional sidecar TOML of Lafortune materials
+    MaterialOverrides materialOverrides; // what `materials` says, read with the configuration
+    std::string material;                // optional preset for every material (e.g. "chrome")
+    int marker = 0;                      // id of the marker it sits on
+    std::string map;                     // or the name of the [[maps]] entry it sits on (then `marker` is unused)
+    glm::dvec3 offset{0.0};              // metres, marker frame
+    double headingDeg = 0.0;             // degrees about the marker's normal (+z), counter-clockwise from above
+    glm::dvec3 rotationDeg{0.0};         // degrees, Rz·Ry·Rx in the upright frame, before heading
+                                         // (app/object_placement.h has the whole composition)
+    double scale = 1.0;                  // uniform; or set `size` to fit the longest side
+    double size = 0.0;                   // metres; > 0 overrides scale
 };
 
 struct EnvironmentConfig {
