@@ -9,7 +9,6 @@
 #include <memory>
 
 #include <apriltag/apriltag.h>
-#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #ifdef LUMAR_HAVE_ARUCO
 #include <opencv2/aruco.hpp>
@@ -17,6 +16,7 @@
 
 #include "bench/tracking_bench_scene.h"
 #include "core/error.h"
+#include "core/json_output.h"
 #include "tracking/apriltag_family.h"
 #include "tracking/tag_tracker.h"
 
@@ -278,12 +278,6 @@ std::string fixed(double v, int decimals)
     return std::string(text, end);
 }
 
-// NaN and infinities (a rate without frames, an error without found tags) become null.
-nlohmann::ordered_json jsonNumber(double v)
-{
-    return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
 } // namespace
 
 TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
@@ -393,8 +387,8 @@ std::string trackingBenchMarkdown(const TrackingBenchReport& report)
 
 std::string trackingBenchJson(const TrackingBenchReport& report)
 {
-    // ordered_json keeps the keys in the order written here, the order of the table's columns.
-    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    // Json keeps the keys in the order written here, the order of the table's columns.
+    Json rows = Json::array();
     for (const TrackingBenchRow& r : report.rows)
         rows.push_back({{"condition", r.condition},
                         {"detector", r.detector},
@@ -411,16 +405,16 @@ std::string trackingBenchJson(const TrackingBenchReport& report)
                         {"translation_mean_percent", jsonNumber(r.translationMeanPercent)},
                         {"translation_p95_percent", jsonNumber(r.translationP95Percent)},
                         {"ms_per_frame", jsonNumber(r.msPerFrame)}});
-    const nlohmann::ordered_json j = {{"width", report.options.width},
-                                      {"height", report.options.height},
-                                      {"frames_per_condition", report.options.framesPerCondition},
-                                      {"seed", report.options.seed},
-                                      {"conditions", report.conditions},
-                                      {"detectors", report.detectors},
-                                      {"rows", std::move(rows)},
-                                      {"lumar_over_apriltag_time", jsonNumber(report.lumarOverAprilTagTime)},
-                                      {"notes", report.notes}};
-    return j.dump() + "\n";
+    const Json j = {{"width", report.options.width},
+                    {"height", report.options.height},
+                    {"frames_per_condition", report.options.framesPerCondition},
+                    {"seed", report.options.seed},
+                    {"conditions", report.conditions},
+                    {"detectors", report.detectors},
+                    {"rows", std::move(rows)},
+                    {"lumar_over_apriltag_time", jsonNumber(report.lumarOverAprilTagTime)},
+                    {"notes", report.notes}};
+    return jsonLine(j) + "\n";
 }
 
 } // namespace lumar

@@ -24,6 +24,11 @@ double roundThroughText(double value, std::chars_format format, int precision)
 
 } // namespace
 
+Json jsonNumber(double value)
+{
+    return std::isfinite(value) ? Json(value) : Json(nullptr);
+}
+
 Json jsonSignificant(double value, int digits)
 {
     if (!std::isfinite(value))

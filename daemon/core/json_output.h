@@ -18,6 +18,10 @@ using Json = nlohmann::ordered_json;
 // tests/data/apriltag come out with 17 digits, 0.049973316499999997 for 0.0499733165, which
 // parse back to the same double).
 
+// `value` as it is, or null for NaN and infinities (a rate without frames, an error without
+// found tags), which JSON cannot represent.
+Json jsonNumber(double value);
+
 // `value` rounded to `digits` significant digits (as printf's %.*g); an integral result is an
 // integer ("2", not "2.0"). null for NaN and infinities, which JSON cannot represent.
 Json jsonSignificant(double value, int digits);
