@@ -14,7 +14,7 @@ layout(std140) uniform Frame {
     // x: +1, or -1 for a mirrored (cube-face) camera frame, where cross products flip;
     // y: 1 writes linear radiance (environment maps), 0 tone-mapped sRGB (the frame);
     // z: 1 = the maps are RGBA8 RGBM (no float render targets), so decode them, and encode
-    // the output too when y is 1.
+    // the output too when y is 1; w: exposure, the factor on radiance before tone mapping.
     vec4 frameParams;
 };
 
@@ -161,5 +161,5 @@ void main()
         radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
 
     fragColor = frameParams.y > 0.5 ? encodeMapTexel(radiance, frameParams.z > 0.5)
-                                    : vec4(encodeSrgb(toneMapAces(radiance)), 1.0);
+                                    : vec4(encodeSrgb(toneMapAces(radiance * frameParams.w)), 1.0);
 }

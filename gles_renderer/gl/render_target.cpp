@@ -83,6 +83,15 @@ void RenderTarget::finishFrame() const
     }
 }
 
+void RenderTarget::resolveColour() const
+{
+    if (samples_ <= 1)
+        return;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, drawFramebuffer_.name());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolvedFramebuffer_.name());
+    glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
 GLuint RenderTarget::readFramebuffer() const
 {
     return samples_ > 1 ? resolvedFramebuffer_.name() : drawFramebuffer_.name();

@@ -18,6 +18,9 @@ public:
     // Makes the finished frame readable from readFramebuffer(): resolves the samples (if
     // any) and discards the depth buffer, which no later step reads.
     void finishFrame() const;
+    // Mid-frame: copies what has been drawn so far into readFramebuffer() (a resolve when
+    // multisampled; nothing to do otherwise), keeping the depth buffer.
+    void resolveColour() const;
     // The single-sampled framebuffer holding the finished frame.
     [[nodiscard]] GLuint readFramebuffer() const;
     // The RGB8 colour texture drawn into, or 0 when multisampled.

@@ -226,7 +226,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         for (int c = 0; c < 3; ++c)
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
         // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
-        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 0.0f);
+        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
         meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy,
                     faceIntrinsics(size).fx);
     };
@@ -277,8 +277,10 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
 std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuModel>& models,
                                                           std::span<const DrawItem> items,
                                                           const EnvironmentLighting& environment,
-                                                          const MeshPass& meshes, bool profile, RenderStats& stats)
+                                                          const MeshPass& meshes, const CameraView& camera,
+                                                          bool profile, RenderStats& stats)
 {
+    static_cast<void>(camera); // phantoms textured with it: next step of issue 15
     if (environment.generation() != environmentGeneration_)
         rebuildEnvironmentMaps(environment);
 

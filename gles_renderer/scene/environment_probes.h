@@ -12,6 +12,7 @@
 
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
+#include "gles_renderer/scene/camera_image.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/scene_renderer.h"
@@ -24,10 +25,11 @@ public:
 
     // Brings the maps up to date for this frame and returns, per item, the maps that shade
     // it (valid until the next call). Rebuilds the real environment's own maps when it
-    // changed. Leaves the GL framebuffer binding and viewport changed.
+    // changed. `camera`: this frame's camera image, where the maps may show it. Leaves the GL
+    // framebuffer binding and viewport changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                           const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
-                                           RenderStats& stats);
+                                           const EnvironmentLighting& environment, const MeshPass& meshes,
+                                           const CameraView& camera, bool profile, RenderStats& stats);
 
     [[nodiscard]] const IblMaps* objectMaps(int object) const;
     [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }

@@ -16,6 +16,7 @@
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
 #include "gles_renderer/scene/background_pass.h"
+#include "gles_renderer/scene/camera_image.h"
 #include "gles_renderer/scene/camera_projection.h"
 #include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
@@ -106,6 +107,13 @@ public:
         environment_.setRotation(environmentFromCamera);
     }
 
+    void setExposure(float scale) override
+    {
+        if (!(std::isfinite(scale) && scale > 0.0f))
+            throw InputError("exposure scale must be positive and finite, got " + std::to_string(scale));
+        exposure_ = scale;
+    }
+
     void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
                 std::span<const DrawItem> items) override
     {
@@ -170,20 +178,27 @@ private:
         context_.makeCurrent();
 
         stats_ = RenderStats{};
-        const std::span<const IblMaps* const> maps =
-            probes_.update(models_, items, environment_, meshes_, profile_, stats_);
-
-        const auto start = std::chrono::steady_clock::now();
+        frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
+        // The camera image first: the environment maps may show it (phantoms carry it).
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
         drawBackground();
+        CameraView camera;
+        if (needsCameraImage(items)) {
+            cameraImage_.capture(target_);
+            camera = {cameraImage_.texture(), frame_.clipFromCamera};
+        }
 
-        frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
+        const std::span<const IblMaps* const> maps =
+            probes_.update(models_, items, environment_, meshes_, camera, profile_, stats_);
+
+        const auto start = std::chrono::steady_clock::now();
+        target_.bindForDrawing();
         const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
         for (int c = 0; c < 3; ++c)
             frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
-        frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, 0.0f);
+        frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, exposure_);
         meshes_.draw(frame_, models_, items, maps, -1, MeshPass::Phantoms::DepthOnly);
         target_.finishFrame();
         if (profile_) {
@@ -196,6 +211,12 @@ private:
         glFlush();
     }
 
+    // Whether this frame's passes look at the camera image from elsewhere.
+    static bool needsCameraImage(std::span<const DrawItem> items)
+    {
+        return std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
+    }
+
     // Declared first so it is destroyed last: every GL object below needs it.
     EglContext context_;
     int width_;
@@ -206,6 +227,8 @@ private:
     DefaultTextures defaults_;
     EnvironmentLighting environment_;
     FrameReadback readback_;
+    CameraImage cameraImage_{width_, height_};
+    float exposure_ = 1.0f;
     std::vector<GpuModel> models_;
     EnvironmentProbes probes_;
     bool profile_;

@@ -89,6 +89,11 @@ public:
     // real environment stays fixed to the world while the camera moves. Identity until set.
     virtual void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) = 0;
 
+    // Scales the virtual objects' radiance in the frame (not in the environment maps) before
+    // tone mapping: the camera's exposure relative to the one the lighting was set up for,
+    // so virtual objects darken and brighten with the camera image. 1 until set.
+    virtual void setExposure(float scale) = 0;
+
     // Composites the models over `backgroundRgb` (3 channels, the output size).
     virtual void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
                         std::span<const DrawItem> items) = 0;

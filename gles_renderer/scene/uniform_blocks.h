@@ -21,8 +21,9 @@ struct FrameUniforms {
     glm::vec4 environmentFromCamera[3] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
     // x: +1, or -1 when the camera frame is mirrored (cube faces); y: 1 = write linear
     // radiance (environment maps), 0 = tone-mapped sRGB (the frame); z: 1 = the maps are
-    // RGBA8 RGBM (decode them, and encode linear output); w unused.
-    glm::vec4 frameParams{1.0f, 0.0f, 0.0f, 0.0f};
+    // RGBA8 RGBM (decode them, and encode linear output); w: exposure, the factor on
+    // radiance before tone mapping (the frame; 1 in environment maps).
+    glm::vec4 frameParams{1.0f, 0.0f, 0.0f, 1.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);
 static_assert(offsetof(FrameUniforms, environmentFromCamera) == 64);
