@@ -2,7 +2,7 @@
 // The paper's shading (Pessoa et al. 2009; DESIGN.md §6.4): McAllister's Lafortune SBRDF
 // with a per-texel tangent rotation and the paper's Fresnel factor, lit by the object's own
 // four environment maps (diffuse, two glossy, mirror) blended by glossiness, plus emission.
-// The main view tone-maps (ACES) and sRGB-encodes for the RGBA8 target; a cube-face view of
+// The main view applies the camera's response (camera_response.glsl) and sRGB-encodes for the RGBA8 target; a cube-face view of
 // an environment map writes linear HDR radiance.
 precision highp float;
 precision highp sampler2D;
@@ -48,16 +48,11 @@ out vec4 fragColor;
 
 #include "lafortune.glsl"
 #include "rgbm.glsl"
+#include "camera_response.glsl"
 
 // glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
 const float kMaxExponent = 4096.0;
 const float kDielectricSpecular = 0.04;
-
-// Narkowicz's fit of the ACES filmic curve (exposure 1).
-vec3 toneMapAces(vec3 x)
-{
-    return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-}
 
 // sRGB encoding of c in [0, 1]. The power 1/2.4 is replaced by Ian Taylor's fit in square
 // roots ("sRGB approximations for HLSL", 2012): within 0.25 code values of the exact curve
@@ -161,5 +156,5 @@ void main()
         radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
 
     fragColor = frameParams.y > 0.5 ? encodeMapTexel(radiance, frameParams.z > 0.5)
-                                    : vec4(encodeSrgb(toneMapAces(radiance * frameParams.w)), 1.0);
+                                    : vec4(encodeSrgb(cameraResponse(radiance * frameParams.w)), 1.0);
 }

@@ -34,8 +34,7 @@ void CameraImage::capture(const RenderTarget& target)
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_.name());
     // Linear filtering averages 2 x 2 of the 4 x 4 pixels each texel covers; the mipmaps
     // below then filter what the blit skipped once the texture is seen from afar.
-    glBlitFramebuffer(0, 0, target.width(), target.height(), 0, 0, width_, height_, GL_COLOR_BUFFER_BIT,
-                      GL_LINEAR);
+    glBlitFramebuffer(0, 0, target.width(), target.height(), 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_LINEAR);
     glBindTexture(GL_TEXTURE_2D, texture_.name());
     glGenerateMipmap(GL_TEXTURE_2D);
     checkGlError("capturing the camera image");

@@ -120,10 +120,14 @@ inline glm::dmat4 translation(double x, double y, double z)
 
 // Published formulas, written out here independently of the shaders.
 
-// Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
-inline double acesFilmic(double x)
+// The renderer's camera response (shaders_es/camera_response.glsl, DESIGN.md §6.5): linear up
+// to the knee, then an exponential shoulder that meets 1 smoothly.
+inline double cameraResponse(double x)
 {
-    return std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+    constexpr double kKnee = 0.8;
+    if (x <= kKnee)
+        return std::max(x, 0.0);
+    return kKnee + (1.0 - kKnee) * (1.0 - std::exp(-(x - kKnee) / (1.0 - kKnee)));
 }
 
 // IEC 61966-2-1 sRGB encoding.
@@ -140,7 +144,7 @@ inline double srgbDecode(double encoded)
 // The 8-bit code value the renderer should write for linear radiance `radiance`.
 inline int toneMappedCode(double radiance)
 {
-    return int(std::lround(255.0 * srgbEncode(acesFilmic(radiance))));
+    return int(std::lround(255.0 * srgbEncode(cameraResponse(radiance))));
 }
 
 } // namespace lumar::test
