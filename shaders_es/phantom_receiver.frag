@@ -2,8 +2,12 @@
 // Differential shading of a real surface (DESIGN.md §6.5): the camera already shows it lit by
 // the whole environment, E_env; the virtual objects take away part of that light, and the
 // camera pixel is multiplied (glBlendFunc(GL_DST_COLOR, GL_ZERO)) by
-//   ratio = 1 - ((1 - visibility) E_L + (1 - openness) E_ambient) / E_env
-// per channel, where E_L = lightIrradiance max(0, n.l) (at most E_env) is the dominant light's
+//   ratio = 1 - Y((1 - visibility) E_L + (1 - openness) E_ambient) / Y(E_env)
+// where Y is luminance (Rec. 709): one factor for the three channels. The camera pixel already
+// has the real light's colour, and the estimated light's colour is the least certain part of
+// the estimate (from the environment's SH: venice_sunset_1k.hdr's light would take 99 % of
+// the floor's red and 48 % of its blue, a teal shadow); per channel the ratio would carry
+// that error into the hue of every shadow. E_L = lightIrradiance max(0, n.l) (at most E_env) is the dominant light's
 // share, E_ambient = E_env - E_L the rest of the sky, visibility the shadow map's, and
 // openness the analytic contact occlusion below. The frame holds sRGB-encoded values, and
 // encoded(x * r) is close to encoded(x) * r^(1/2.2) (sRGB as a pure 2.2 gamma): the output is
@@ -107,7 +111,8 @@ void main()
         }
     }
     float open = openness(vPosition, n);
-    vec3 removed = (1.0 - visibility) * light + (1.0 - open) * (environment - light);
-    vec3 ratio = clamp(1.0 - removed / max(environment, vec3(1e-6)), 0.0, 1.0);
-    fragColor = vec4(pow(ratio, vec3(1.0 / 2.2)), 1.0);
+    const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
+    float removed = dot((1.0 - visibility) * light + (1.0 - open) * (environment - light), kLuminance);
+    float ratio = clamp(1.0 - removed / max(dot(environment, kLuminance), 1e-6), 0.0, 1.0);
+    fragColor = vec4(vec3(pow(ratio, 1.0 / 2.2)), 1.0);
 }

@@ -5,13 +5,17 @@
 #include <numbers>
 
 namespace lumar {
+namespace {
+
+constexpr glm::dvec3 kLuminance(0.2126, 0.7152, 0.0722); // Rec. 709
+
+} // namespace
 
 DominantLight dominantLightFromSH9(const SH9& sh)
 {
     // Band 1 is stored as (y, z, x) (environment_map.h).
-    const glm::dvec3 luminance(0.2126, 0.7152, 0.0722);
-    const glm::dvec3 linear(glm::dot(glm::dvec3(sh[3]), luminance), glm::dot(glm::dvec3(sh[1]), luminance),
-                            glm::dot(glm::dvec3(sh[2]), luminance));
+    const glm::dvec3 linear(glm::dot(glm::dvec3(sh[3]), kLuminance), glm::dot(glm::dvec3(sh[1]), kLuminance),
+                            glm::dot(glm::dvec3(sh[2]), kLuminance));
     const double length = glm::length(linear);
     DominantLight light;
     if (!(length > 0.0) || !std::isfinite(length))
@@ -33,7 +37,14 @@ DominantLight dominantLightFromSH9(const SH9& sh)
         denominator += weight * double(y[k]);
     }
     light.direction = glm::vec3(d);
-    light.color = glm::vec3(glm::max(numerator / denominator, glm::dvec3(0.0)));
+    glm::dvec3 colour = glm::max(numerator / denominator, glm::dvec3(0.0));
+    // The fit gives the light all of the environment's anisotropy, a sky brighter than the
+    // ground included; capped, the rest of the sky keeps its share (see the header).
+    const double facing = glm::dot(glm::dvec3(irradianceSH9(sh, glm::vec3(d))), kLuminance);
+    const double share = facing > 0.0 ? glm::dot(colour, kLuminance) / facing : 0.0;
+    if (share > kMaxDominantLightShare)
+        colour *= kMaxDominantLightShare / share;
+    light.color = glm::vec3(colour);
     return light;
 }
 

@@ -9,6 +9,13 @@
 //              the fit gives the light the environment's directional part and leaves the
 //              ambient part to the rest of the sky (Sloan fits bands 0..1 for a light that
 //              replaces the SH; here the light is a share of the environment, DESIGN.md §6.5).
+//   cap        at most kMaxDominantLightShare of the irradiance (luminance) on a surface
+//              facing the light, scaled as a whole: band 1 is also the sky's gradient (a sky
+//              brighter than the ground), which the fit attributes to the light too. On
+//              venice_sunset_1k.hdr it finds the light 40 degrees up (the sun is 3 degrees up:
+//              the bright sky lifts it) taking 74 % of the irradiance facing it and 99 % of the
+//              floor's red: shadows removing that much turn black and teal. Capped at one
+//              half, the floor keeps about half its light in the umbra.
 // The colour is irradiance on a surface facing the light (the environment's radiance units
 // times steradians), the E_L = colour·max(0, n·l) that shadows remove.
 #pragma once
@@ -19,6 +26,8 @@
 #include "gles_renderer/assets/environment_map.h"
 
 namespace lumar {
+
+inline constexpr double kMaxDominantLightShare = 0.5;
 
 struct DominantLight {
     glm::vec3 direction{0.0f, 1.0f, 0.0f}; // unit, towards the light, environment frame (+Y up)

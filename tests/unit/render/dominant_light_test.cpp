@@ -102,6 +102,10 @@ TEST(DominantLight, PointsAtTheSunOfVeniceSunset)
                 "colour %.3f %.3f %.3f\n",
                 elevationDeg, azimuthDeg, std::asin(sun.y) * 180.0 / kPi, sunAzimuthDeg, light.color.r, light.color.g,
                 light.color.b);
+    const SH9 sh = projectEquirectSH9(venice);
+    const glm::vec3 facing = irradianceSH9(sh, light.direction), up = irradianceSH9(sh, glm::vec3(0, 1, 0));
+    std::printf("venice: irradiance facing the light %.3f %.3f %.3f, facing up %.3f %.3f %.3f\n", facing.r, facing.g,
+                facing.b, up.r, up.g, up.b);
     EXPECT_GT(elevationDeg, 0.0);
     EXPECT_LT(azimuthError, 20.0);
     EXPECT_GT(light.color.r, 0.0f);
