@@ -162,6 +162,12 @@ ImageF loadEnvironment(const EnvironmentConfig& environment)
     return environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(environment.hdr);
 }
 
+// Whether `config` takes its dominant light from the environment map (no [[lights]]).
+bool needsDerivedLight(const Config& config)
+{
+    return config.shadows.enabled && config.lights.empty();
+}
+
 // The renderer for `config`; sameRendererSetup() compares what this reads, keep them in step.
 std::unique_ptr<SceneRenderer> makeRenderer(const Config& config, int width, int height, bool profile,
                                             const WindowTarget* window)
@@ -236,7 +242,7 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
 
     renderer_ = makeRenderer(config_, capture_->width(), capture_->height(), profile_, window_);
     renderer_->setEnvironment(environment, float(config_.environment.intensity));
-    if (config_.shadows.enabled && config_.lights.empty())
+    if (needsDerivedLight(config_))
         derivedLight_ = dominantLight(environment);
     applyLight();
     placeScene(models);
@@ -253,9 +259,9 @@ void Pipeline::applyLight()
         light.direction = environmentFromMarker() * configured->direction;
         light.color = glm::vec3(configured->color);
         light.intensity = float(configured->intensity);
-    } else if (config_.lights.empty()) {
-        light.direction = glm::dvec3(derivedLight_.direction);
-        light.color = derivedLight_.color * float(config_.environment.intensity);
+    } else if (config_.lights.empty() && derivedLight_) {
+        light.direction = glm::dvec3(derivedLight_->direction);
+        light.color = derivedLight_->color * float(config_.environment.intensity);
         light.intensity = 1.0f;
     } // else: lights are configured, none casting shadows: no light (contact darkening only)
     renderer_->setLight(light);
@@ -338,8 +344,12 @@ Pipeline::PreparedReload Pipeline::prepareReload(const Config& next) const
     const bool keepRenderer = sameRendererSetup(config_, next);
     // The time is read before the file, so a write while it loads makes the next reload read it again.
     prepared.environmentWritten = environmentWritten(next.environment);
-    if (!keepRenderer || next.environment != config_.environment || prepared.environmentWritten != environmentWritten_)
+    if (!keepRenderer || next.environment != config_.environment ||
+        prepared.environmentWritten != environmentWritten_ || (needsDerivedLight(next) && !derivedLight_)) {
         prepared.environment = loadEnvironment(next.environment);
+        if (needsDerivedLight(next))
+            prepared.environmentLight = dominantLight(*prepared.environment);
+    }
     // Last: a new GL context only once every file has loaded.
     if (!keepRenderer)
         prepared.renderer = makeRenderer(next, capture_->width(), capture_->height(), profile_, window_);
@@ -376,7 +386,7 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
     if (prepared.environment) {
         renderer_->setEnvironment(*prepared.environment, float(config_.environment.intensity));
         environmentWritten_ = prepared.environmentWritten;
-        derivedLight_ = dominantLight(*prepared.environment);
+        derivedLight_ = prepared.environmentLight;
     }
     applyLight();
     placeScene(prepared.models);

@@ -70,9 +70,10 @@ public:
     struct PreparedReload {
         Config config;
         CameraIntrinsics intrinsics;
-        std::unique_ptr<TagTracker> tracker; // null: the running one is kept
-        std::vector<GltfModel> models;       // config.objects' models, loaded
-        std::optional<ImageF> environment;   // nullopt: the running map is kept
+        std::unique_ptr<TagTracker> tracker;           // null: the running one is kept
+        std::vector<GltfModel> models;                 // config.objects' models, loaded
+        std::optional<ImageF> environment;             // nullopt: the running map is kept
+        std::optional<DominantLight> environmentLight; // `environment`'s, where the config needs it
         std::filesystem::file_time_type environmentWritten{};
         std::unique_ptr<SceneRenderer> renderer; // null: the running one is kept
     };
@@ -144,7 +145,9 @@ private:
     std::vector<PlacedObject> objects_;
     std::vector<PlacedObject> phantoms_; // markerFromModel scales the unit cube to the box
     std::vector<PlacedObject> grounds_;  // receiver-only planes under objects ([shadows] ground)
-    DominantLight derivedLight_;         // of the environment map, scaled by its intensity
+    // The environment map's own light (not yet scaled by its intensity), computed where the
+    // configuration needs it.
+    std::optional<DominantLight> derivedLight_;
     std::map<int, MarkerState> markers_;
     PoseFilterSettings filterSettings_;
     std::vector<DrawItem> drawItems_;

@@ -104,10 +104,26 @@ ShadowPass::ShadowPass(const ShadowOptions& options)
     checkFramebufferComplete("shadow map");
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
+    checkGlError("creating the shadow pass");
+}
+
+// Linked at first use: a scene without casters or phantoms pays nothing, and the daemon's
+// first frame (its READY) does not wait for two more programs to compile.
+void ShadowPass::linkDepthProgram()
+{
+    if (depthProgram_)
+        return;
     depthProgram_ = linkProgram(kDepthOnlyProgram);
     depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
     bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
+}
 
+void ShadowPass::linkReceiverProgram()
+{
+    if (receiverProgram_)
+        return;
     receiverProgram_ = linkProgram(kPhantomReceiverProgram);
     cameraFromMeshLocation_ = uniformLocation(receiverProgram_, "uCameraFromMesh");
     normalFromMeshLocation_ = uniformLocation(receiverProgram_, "uNormalFromMesh");
@@ -119,10 +135,6 @@ ShadowPass::ShadowPass(const ShadowOptions& options)
     glUseProgram(receiverProgram_.name());
     glUniform1i(uniformLocation(receiverProgram_, "uDiffuseMap"), GLint(MeshPass::kDiffuseMapUnit));
     glUniform1i(uniformLocation(receiverProgram_, "uShadowMap"), GLint(MeshPass::kShadowMapUnit));
-
-    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
-    glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
-    checkGlError("creating the shadow pass");
 }
 
 void ShadowPass::setLight(const DirectionalLight& light)
@@ -148,6 +160,7 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
         return;
     const auto start = Clock::now();
     if (fitLightCamera(models, items, environmentFromCamera)) {
+        linkDepthProgram();
         drawCasters(models, items);
         mapValid_ = true;
     }
@@ -300,10 +313,11 @@ void ShadowPass::setOccluders(const std::vector<GpuModel>& models, std::span<con
 }
 
 void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<GpuModel>& models,
-                               std::span<const DrawItem> items, std::span<const IblMaps* const> maps) const
+                               std::span<const DrawItem> items, std::span<const IblMaps* const> maps)
 {
     if (!enabled() || std::none_of(items.begin(), items.end(), [](const DrawItem& i) { return i.phantom; }))
         return;
+    linkReceiverProgram();
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());

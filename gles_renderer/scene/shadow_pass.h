@@ -49,13 +49,15 @@ public:
     // item i with maps[i]'s diffuse map as its real irradiance. `frame` must have been filled
     // by fillView for the frame. Does nothing when shadows are off.
     void drawReceivers(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                       std::span<const IblMaps* const> maps) const;
+                       std::span<const IblMaps* const> maps);
 
 private:
     // Fits the light's orthographic camera to this frame's casters (and receivers in depth);
     // false when there is nothing to cast a shadow.
     bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                         const glm::dmat3& environmentFromCamera);
+    void linkDepthProgram();
+    void linkReceiverProgram();
     void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
 
