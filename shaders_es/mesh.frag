@@ -7,6 +7,7 @@
 precision highp float;
 precision highp sampler2D;
 precision highp samplerCube;
+precision highp sampler2DShadow;
 
 layout(std140) uniform Frame {
     mat4 clipFromCamera;
@@ -16,6 +17,11 @@ layout(std140) uniform Frame {
     // z: 1 = the maps are RGBA8 RGBM (no float render targets), so decode them, and encode
     // the output too when y is 1; w: exposure, the factor on radiance before tone mapping.
     vec4 frameParams;
+    // The dominant light in this view (DESIGN.md §6.5; gles_renderer/scene/uniform_blocks.h).
+    mat4 lightClipFromCamera;
+    vec4 lightDirection;  // xyz: towards the light; w: 1 = sample the shadow map
+    vec4 lightIrradiance; // rgb: irradiance at normal incidence; w: 1 = a light is set
+    vec4 shadowParams;    // x: PCF radius (texels), y: 1 / map size, z: texel (metres), w: depth bias
 };
 
 layout(std140) uniform Material {
@@ -38,6 +44,7 @@ uniform samplerCube uDiffuseMap;      // E / pi (the n = 1 Phong prefilter), env
 uniform samplerCube uGlossy1Map;      // Phong prefilter, n = 8
 uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
 uniform samplerCube uMirrorMap;       // the environment map itself
+uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -49,10 +56,15 @@ out vec4 fragColor;
 #include "lafortune.glsl"
 #include "rgbm.glsl"
 #include "camera_response.glsl"
+#include "shadow.glsl"
 
 // glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
 const float kMaxExponent = 4096.0;
 const float kDielectricSpecular = 0.04;
+// The least share of the environment's diffuse light a shadow leaves (a configured light may
+// claim more of the light than the environment map holds).
+const float kShadowFloor = 0.1;
+const float kInversePi = 0.31830989;
 
 // sRGB encoding of c in [0, 1]. The power 1/2.4 is replaced by Ian Taylor's fit in square
 // roots ("sRGB approximations for HLSL", 2012): within 0.25 code values of the exact curve
@@ -148,7 +160,21 @@ void main()
 
     vec3 v = normalize(-vPosition);
     LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
-    vec3 diffuse = rhoD * mapRadiance(uDiffuseMap, environmentFromCamera * n);
+    vec3 irradiance = mapRadiance(uDiffuseMap, environmentFromCamera * n); // E_env / pi
+    // Shadows (DESIGN.md §6.5): the dominant light is a share of the environment, E_L =
+    // lightIrradiance max(0, n.l); where the shadow map blocks it, that share is taken out:
+    // E = max(E_env - (1 - visibility) E_L, floor). Lit, or with no light or no shadow map,
+    // E is E_env exactly, as without shadows.
+    if (lightDirection.w > 0.5) {
+        float nl = dot(n, lightDirection.xyz);
+        if (nl > 0.0) {
+            float visibility = shadowVisibility(vPosition, n);
+            if (visibility < 1.0)
+                irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,
+                                 kShadowFloor * irradiance);
+        }
+    }
+    vec3 diffuse = rhoD * irradiance;
     vec3 specular = shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;

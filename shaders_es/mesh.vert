@@ -6,6 +6,10 @@ layout(std140) uniform Frame {
     mat4 clipFromCamera;
     mat3 environmentFromCamera;
     vec4 frameParams;
+    mat4 lightClipFromCamera;
+    vec4 lightDirection;
+    vec4 lightIrradiance;
+    vec4 shadowParams;
 };
 
 uniform mat4 uCameraFromMesh;

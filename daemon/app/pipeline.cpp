@@ -1,5 +1,6 @@
 #include "pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <tuple>
@@ -15,6 +16,7 @@
 #include "gles_renderer/assets/gltf_model.h"
 #include "gles_renderer/assets/material_overrides.h"
 #include "gles_renderer/gl/gl_probe.h"
+#include "ground_plane.h"
 #include "object_placement.h"
 #include "tracking/calibration_io.h"
 
@@ -160,6 +162,12 @@ ImageF loadEnvironment(const EnvironmentConfig& environment)
     return environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(environment.hdr);
 }
 
+// Whether `config` takes its dominant light from the environment map (no [[lights]]).
+bool needsDerivedLight(const Config& config)
+{
+    return config.shadows.enabled && config.lights.empty();
+}
+
 // The renderer for `config`; sameRendererSetup() compares what this reads, keep them in step.
 std::unique_ptr<SceneRenderer> makeRenderer(const Config& config, int width, int height, bool profile,
                                             const WindowTarget* window)
@@ -185,7 +193,11 @@ bool sameRendererSetup(const Config& running, const Config& next)
         return std::tuple(output, board.glQuirks, board.display.drmDrivers, board.display.connector,
                           board.display.plane, board.display.modifiers);
     };
-    return running.rendering == next.rendering && display(running) == display(next);
+    const auto shadows = [](const Config& c) {
+        return std::tuple(c.shadows.enabled, c.shadows.mapSize, c.shadows.softness);
+    };
+    return running.rendering == next.rendering && shadows(running) == shadows(next) &&
+           display(running) == display(next);
 }
 
 } // namespace
@@ -208,6 +220,9 @@ RenderOptions renderOptionsFor(const Config& config)
     maps.everyK = rendering.environmentMapEvery;
     maps.budgetMs = rendering.environmentMapBudgetMs;
     maps.ibl.mirrorSize = rendering.environmentMapSize;
+    options.shadows.enabled = config.shadows.enabled;
+    options.shadows.mapSize = config.shadows.mapSize;
+    options.shadows.softness = float(config.shadows.softness);
     return options;
 }
 
@@ -227,7 +242,29 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
 
     renderer_ = makeRenderer(config_, capture_->width(), capture_->height(), profile_, window_);
     renderer_->setEnvironment(environment, float(config_.environment.intensity));
+    if (needsDerivedLight(config_))
+        derivedLight_ = dominantLight(environment);
+    applyLight();
     placeScene(models);
+}
+
+void Pipeline::applyLight()
+{
+    if (!config_.shadows.enabled)
+        return;
+    DirectionalLight light;
+    const auto configured =
+        std::find_if(config_.lights.begin(), config_.lights.end(), [](const LightConfig& l) { return l.shadow; });
+    if (configured != config_.lights.end()) {
+        light.direction = environmentFromMarker() * configured->direction;
+        light.color = glm::vec3(configured->color);
+        light.intensity = float(configured->intensity);
+    } else if (config_.lights.empty() && derivedLight_) {
+        light.direction = glm::dvec3(derivedLight_->direction);
+        light.color = derivedLight_->color * float(config_.environment.intensity);
+        light.intensity = 1.0f;
+    } // else: lights are configured, none casting shadows: no light (contact darkening only)
+    renderer_->setLight(light);
 }
 
 void Pipeline::placeScene(const std::vector<GltfModel>& models)
@@ -263,7 +300,32 @@ void Pipeline::placeScene(const std::vector<GltfModel>& models)
             glm::translate(glm::dmat4(1.0), phantom.offset) * glm::scale(glm::dmat4(1.0), phantom.size);
         phantoms_.push_back(placed);
     }
-    drawItems_.reserve(objects_.size() + phantoms_.size());
+    placeGrounds(models);
+    drawItems_.reserve(objects_.size() + phantoms_.size() + grounds_.size());
+}
+
+void Pipeline::placeGrounds(const std::vector<GltfModel>& models)
+{
+    grounds_.clear();
+    if (!config_.shadows.enabled || !config_.shadows.ground || objects_.empty())
+        return;
+    std::map<int, std::vector<PlacedBox>> boxesByMarker;
+    for (size_t i = 0; i < objects_.size(); ++i)
+        boxesByMarker[objects_[i].marker].push_back(
+            {objects_[i].markerFromModel, models[i].boundsMin, models[i].boundsMax});
+    ModelId ground = -1;
+    for (const auto& [marker, boxes] : boxesByMarker) {
+        std::vector<PhantomConfig> phantoms;
+        for (const PhantomConfig& phantom : config_.phantoms)
+            if (phantom.marker == marker)
+                phantoms.push_back(phantom);
+        const std::optional<glm::dmat4> markerFromModel = groundUnder(boxes, phantoms);
+        if (!markerFromModel)
+            continue;
+        if (ground < 0)
+            ground = renderer_->addModel(makeGroundModel());
+        grounds_.push_back({ground, marker, *markerFromModel});
+    }
 }
 
 Pipeline::PreparedReload Pipeline::prepareReload(const Config& next) const
@@ -282,8 +344,12 @@ Pipeline::PreparedReload Pipeline::prepareReload(const Config& next) const
     const bool keepRenderer = sameRendererSetup(config_, next);
     // The time is read before the file, so a write while it loads makes the next reload read it again.
     prepared.environmentWritten = environmentWritten(next.environment);
-    if (!keepRenderer || next.environment != config_.environment || prepared.environmentWritten != environmentWritten_)
+    if (!keepRenderer || next.environment != config_.environment ||
+        prepared.environmentWritten != environmentWritten_ || (needsDerivedLight(next) && !derivedLight_)) {
         prepared.environment = loadEnvironment(next.environment);
+        if (needsDerivedLight(next))
+            prepared.environmentLight = dominantLight(*prepared.environment);
+    }
     // Last: a new GL context only once every file has loaded.
     if (!keepRenderer)
         prepared.renderer = makeRenderer(next, capture_->width(), capture_->height(), profile_, window_);
@@ -320,7 +386,9 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
     if (prepared.environment) {
         renderer_->setEnvironment(*prepared.environment, float(config_.environment.intensity));
         environmentWritten_ = prepared.environmentWritten;
+        derivedLight_ = prepared.environmentLight;
     }
+    applyLight();
     placeScene(prepared.models);
     summary.modelsAfter = objects_.size();
     return summary;
@@ -406,6 +474,13 @@ bool Pipeline::step(FrameReport& report)
             drawItems_.push_back(
                 {phantom.model, poseAt(it->second, poseTimeNs).matrix() * phantom.markerFromModel, -1, true});
     }
+    const int objectsDrawn = int(drawItems_.size()); // objects and phantoms, not the grounds
+    for (const PlacedObject& ground : grounds_) {
+        const auto it = markers_.find(ground.marker);
+        if (it != markers_.end() && frame_.sequence - it->second.lastSeen <= kMarkerHoldFrames)
+            drawItems_.push_back(
+                {ground.model, poseAt(it->second, poseTimeNs).matrix() * ground.markerFromModel, -1, true, true});
+    }
     if (environmentAnchor) {
         const glm::dmat3 markerFromCamera = glm::transpose(poseAt(*environmentAnchor, poseTimeNs).R);
         renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
@@ -416,7 +491,7 @@ bool Pipeline::step(FrameReport& report)
         renderer_->render(frame_.rgb, intrinsics_, drawItems_);
     else
         renderer_->render(frame_.ycbcr, intrinsics_, drawItems_);
-    report.objectsDrawn = int(drawItems_.size());
+    report.objectsDrawn = objectsDrawn;
     report.times.renderMs = millisecondsSince(start);
 
     // On a display the frame goes to the screen without leaving the GPU; otherwise it is

@@ -15,6 +15,7 @@
 #include "core/frame.h"
 #include "detection_worker.h"
 #include "gles_renderer/gl/window_target.h"
+#include "gles_renderer/ibl/dominant_light.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
@@ -69,9 +70,10 @@ public:
     struct PreparedReload {
         Config config;
         CameraIntrinsics intrinsics;
-        std::unique_ptr<TagTracker> tracker; // null: the running one is kept
-        std::vector<GltfModel> models;       // config.objects' models, loaded
-        std::optional<ImageF> environment;   // nullopt: the running map is kept
+        std::unique_ptr<TagTracker> tracker;           // null: the running one is kept
+        std::vector<GltfModel> models;                 // config.objects' models, loaded
+        std::optional<ImageF> environment;             // nullopt: the running map is kept
+        std::optional<DominantLight> environmentLight; // `environment`'s, where the config needs it
         std::filesystem::file_time_type environmentWritten{};
         std::unique_ptr<SceneRenderer> renderer; // null: the running one is kept
     };
@@ -113,6 +115,11 @@ private:
     // Adds the configured objects (`models` in config_.objects' order) and phantoms to the
     // renderer, which holds no models yet.
     void placeScene(const std::vector<GltfModel>& models);
+    // Gives the renderer the dominant light: the first configured [[lights]] entry that casts
+    // shadows, else the one derived from the environment map (derivedLight_).
+    void applyLight();
+    // The receiver-only ground under each marker's objects ([shadows] ground; ground_plane.h).
+    void placeGrounds(const std::vector<GltfModel>& models);
     void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
     // The marker's pose at `timestampNs`: predicted by its filter (the latest pose when the
     // time is that of its last update).
@@ -137,6 +144,10 @@ private:
     std::filesystem::file_time_type environmentWritten_{};
     std::vector<PlacedObject> objects_;
     std::vector<PlacedObject> phantoms_; // markerFromModel scales the unit cube to the box
+    std::vector<PlacedObject> grounds_;  // receiver-only planes under objects ([shadows] ground)
+    // The environment map's own light (not yet scaled by its intensity), computed where the
+    // configuration needs it.
+    std::optional<DominantLight> derivedLight_;
     std::map<int, MarkerState> markers_;
     PoseFilterSettings filterSettings_;
     std::vector<DrawItem> drawItems_;

@@ -65,9 +65,9 @@ int benchCommand(const BenchCommandOptions& options)
             throw InputError("the camera source ended during warm-up");
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs;
-    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, mapsUpdated;
+    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, mapsUpdated;
     for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &environmentMapsMs, &shMs, &prefilterMs,
-                    &shadingMs, &mapsUpdated})
+                    &shadingMs, &shadowsMs, &mapsUpdated})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -85,6 +85,7 @@ int benchCommand(const BenchCommandOptions& options)
         shMs.push_back(stats.shMs);
         prefilterMs.push_back(stats.prefilterMs);
         shadingMs.push_back(stats.shadingMs);
+        shadowsMs.push_back(stats.shadowsMs);
         mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
@@ -102,6 +103,7 @@ int benchCommand(const BenchCommandOptions& options)
             stages["sh"] = jsonDecimals(mean(shMs), 3);
             stages["prefilter"] = jsonDecimals(mean(prefilterMs), 3);
             stages["shading"] = jsonDecimals(mean(shadingMs), 3);
+            stages["shadows"] = jsonDecimals(mean(shadowsMs), 3);
         }
         const Json summary = {
             {"frames", measured},
@@ -126,8 +128,11 @@ int benchCommand(const BenchCommandOptions& options)
                         percentile(*values, 0.99));
         if (profile) {
             std::printf("  render, split (%.2f environment maps updated per frame):\n", mean(mapsUpdated));
-            const std::pair<const char*, const std::vector<double>*> parts[] = {
-                {"env_maps", &environmentMapsMs}, {"sh", &shMs}, {"prefilter", &prefilterMs}, {"shading", &shadingMs}};
+            const std::pair<const char*, const std::vector<double>*> parts[] = {{"env_maps", &environmentMapsMs},
+                                                                                {"sh", &shMs},
+                                                                                {"prefilter", &prefilterMs},
+                                                                                {"shading", &shadingMs},
+                                                                                {"shadows", &shadowsMs}};
             for (const auto& [name, values] : parts)
                 std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                             percentile(*values, 0.99));

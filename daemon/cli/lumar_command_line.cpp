@@ -338,7 +338,7 @@ without pacing or output, and prints frames per second, frame-time percentiles, 
 time of each stage and the resident memory. Capture runs one frame ahead on its own thread,
 so "capture" is the time the pipeline waited for it.
 The render stage is split into its parts (environment maps, SH projection with the diffuse
-map, glossy prefilter, shading of the frame) by waiting for the GPU between them, which a
+map, glossy prefilter, shading of the frame, the shadow map) by waiting for the GPU between them, which a
 GPU would otherwise overlap with the next stage; --no-profile measures without the waits.)");
     addConfigFile(*c, o.config);
     addInteger(*c, "--frames", o.frames, {1, 1000000}, "frames to measure");

@@ -348,6 +348,42 @@ void readEnvironment(TableReader& root, EnvironmentConfig& environment, const Co
     r.finish();
 }
 
+void readLights(TableReader& root, std::vector<LightConfig>& lights)
+{
+    forEachTable(root, "lights", [&](TableReader& r, const toml::node*) {
+        LightConfig light;
+        r.oneOf("type", light.type, {"directional"});
+        if (!r.has("direction"))
+            r.failMissing("direction");
+        r.vec3("direction", light.direction);
+        if (!(glm::length(light.direction) > 1e-9))
+            r.fail(r.node("direction"), "direction", "must not be zero");
+        light.direction = glm::normalize(light.direction);
+        r.vec3("color", light.color);
+        for (int c = 0; c < 3; ++c)
+            if (!(light.color[c] >= 0.0 && light.color[c] <= 1.0))
+                r.fail(r.node("color"), "color", "each channel must be in [0, 1]");
+        r.number("intensity", light.intensity, 0.0, 1e6);
+        r.boolean("shadow", light.shadow);
+        lights.push_back(light);
+    });
+}
+
+void readShadows(TableReader& root, ShadowsConfig& shadows)
+{
+    const toml::table* table = root.table("shadows");
+    if (!table)
+        return;
+    TableReader r(*table, "shadows", root.fileName());
+    r.boolean("enabled", shadows.enabled);
+    r.integer("map_size", shadows.mapSize, 256, 4096);
+    if ((shadows.mapSize & (shadows.mapSize - 1)) != 0)
+        r.fail(r.node("map_size"), "map_size", std::to_string(shadows.mapSize) + " is not a power of two");
+    r.number("softness", shadows.softness, 0.0, 16.0);
+    r.boolean("ground", shadows.ground);
+    r.finish();
+}
+
 void readRendering(TableReader& root, RenderingConfig& rendering, const Context& ctx)
 {
     const toml::table* table = root.table("rendering");
@@ -465,6 +501,8 @@ Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
     readObjects(r, config.objects, config.markers, config.maps, ctx);
     readPhantoms(r, config.phantoms, config.markers);
     readEnvironment(r, config.environment, ctx);
+    readLights(r, config.lights);
+    readShadows(r, config.shadows);
     readRendering(r, config.rendering, ctx);
     readOutput(r, config.output, ctx);
     r.finish();

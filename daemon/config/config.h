@@ -138,6 +138,31 @@ struct PhantomConfig {
     glm::dvec3 color{0.5};  // linear diffuse albedo, each in [0, 1]
 };
 
+// [[lights]]: the dominant light, when the real environment's own (derived from its SH,
+// gles_renderer/ibl/dominant_light.h) is not the one wanted (DESIGN.md §6.5). The light is a
+// share of the environment's light, not added to it: shadows remove it where it is blocked.
+struct LightConfig {
+    std::string type = "directional";
+    glm::dvec3 direction{0.0, 0.0, 1.0}; // towards the light, in the frame of the marker the first object
+                                         // stands on (z up, as objects are placed); unit length
+    glm::dvec3 color{1.0};               // linear, each in [0, 1]
+    double intensity = 1.0;              // irradiance on a surface facing the light, in the environment
+                                         // map's radiance units times steradians (a uniform sky of radiance
+                                         // L gives a floor irradiance of pi L)
+    bool shadow = true;                  // whether it casts shadows (the renderer shadows one light)
+    bool operator==(const LightConfig&) const = default;
+};
+
+// [shadows]: shadow maps of the dominant light and contact darkening (DESIGN.md §6.5).
+struct ShadowsConfig {
+    bool enabled = true;
+    int mapSize = 1024;    // shadow-map texels per side, a power of two 256..4096
+    double softness = 1.5; // PCF kernel radius, shadow-map texels
+    bool ground = true;    // a receiver-only plane on the marker's plane under objects that stand
+                           // on no phantom, so their shadows and contact darkening show on the table
+    bool operator==(const ShadowsConfig&) const = default;
+};
+
 // The paper's per-object environment maps (DESIGN.md §6.1).
 struct RenderingConfig {
     // auto: every_frame, or budget on a board with the software-renderer GL quirk
@@ -172,6 +197,8 @@ struct Config {
     std::vector<ObjectConfig> objects;
     std::vector<PhantomConfig> phantoms;
     EnvironmentConfig environment;
+    std::vector<LightConfig> lights;
+    ShadowsConfig shadows;
     RenderingConfig rendering;
     OutputConfig output;
 

@@ -25,10 +25,11 @@ inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh
 inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.frag"};
 inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
 inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
-inline constexpr std::array<ProgramSources, 10> kAllPrograms{
-    kDepthOnlyProgram,     kBackgroundProgram,    kBackgroundYcbcrProgram,   kMeshProgram,
-    kSkyboxProgram,        kShProjectProgram,     kShProjectEquirectProgram, kShReduceProgram,
-    kDiffuseFromShProgram, kPhongPrefilterProgram};
+inline constexpr ProgramSources kPhantomReceiverProgram{"phantom_receiver.vert", "phantom_receiver.frag"};
+inline constexpr std::array<ProgramSources, 11> kAllPrograms{
+    kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,   kMeshProgram,
+    kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram, kShReduceProgram,
+    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram};
 
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the

@@ -185,8 +185,8 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const Env
 }
 
 void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                    const EnvironmentLighting& environment, const MeshPass& meshes, bool profile,
-                                    RenderStats& stats)
+                                    const EnvironmentLighting& environment, const MeshPass& meshes,
+                                    const ShadowPass& shadows, bool profile, RenderStats& stats)
 {
     IblMaps& maps = probes_[items[owner].object];
     if (!maps.mirror)
@@ -227,6 +227,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
             frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
         // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
         frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
+        shadows.fillView(frame, glm::inverse(faceFromCamera));
         meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy,
                     faceIntrinsics(size).fx);
     };
@@ -277,7 +278,8 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
 std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuModel>& models,
                                                           std::span<const DrawItem> items,
                                                           const EnvironmentLighting& environment,
-                                                          const MeshPass& meshes, const CameraView& camera,
+                                                          const MeshPass& meshes, const ShadowPass& shadows,
+                                                          const CameraView& camera,
                                                           bool profile, RenderStats& stats)
 {
     static_cast<void>(camera); // phantoms textured with it: next step of issue 15
@@ -295,7 +297,7 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
         for (const size_t i : updates_) {
             const auto start = Clock::now();
-            renderProbe(i, models, items, environment, meshes, profile || timeProbes, stats);
+            renderProbe(i, models, items, environment, meshes, shadows, profile || timeProbes, stats);
             if (timeProbes) {
                 const double cost = millisecondsSince(start);
                 probeCostMs_ = probeCostMs_ > 0.0 ? 0.8 * probeCostMs_ + 0.2 * cost : cost;

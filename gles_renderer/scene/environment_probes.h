@@ -16,6 +16,7 @@
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/scene_renderer.h"
+#include "gles_renderer/scene/shadow_pass.h"
 
 namespace lumar {
 
@@ -25,11 +26,13 @@ public:
 
     // Brings the maps up to date for this frame and returns, per item, the maps that shade
     // it (valid until the next call). Rebuilds the real environment's own maps when it
-    // changed. `camera`: this frame's camera image, where the maps may show it. Leaves the GL
-    // framebuffer binding and viewport changed.
+    // changed. `shadows` gives each face its view of this frame's shadow map; `camera`: this
+    // frame's camera image, where the maps may show it. Leaves the GL framebuffer binding and
+    // viewport changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                            const EnvironmentLighting& environment, const MeshPass& meshes,
-                                           const CameraView& camera, bool profile, RenderStats& stats);
+                                           const ShadowPass& shadows, const CameraView& camera, bool profile,
+                                           RenderStats& stats);
 
     [[nodiscard]] const IblMaps* objectMaps(int object) const;
     [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
@@ -48,7 +51,8 @@ private:
     // Which items get new maps this frame (indices into items).
     void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile, RenderStats& stats);
+                     const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
+                     bool profile, RenderStats& stats);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;
@@ -69,7 +73,10 @@ private:
     // (it still hides the neighbours behind it) instead of shading thousands of texels.
     // The layer is drawn once the phantoms have stood still for two updates: phantoms that
     // keep moving relative to the object are shaded into its map directly, as before. (Were
-    // phantoms ever textured with the camera image, the layer would be stale every frame.)
+    // phantoms ever textured with the camera image, the layer would be stale every frame.
+    // The virtual objects' shadows on the phantoms are in the layer as they were when it was
+    // drawn: objects standing on the phantoms' marker keep them; others moving over them
+    // leave them stale until a phantom moves.)
     struct PhantomLayer {
         IblMaps maps; // only the mirror map is used
         bool drawn = false;

@@ -22,6 +22,7 @@
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/scene_renderer.h"
+#include "gles_renderer/scene/shadow_pass.h"
 
 namespace lumar {
 namespace {
@@ -58,8 +59,9 @@ public:
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
-          profile_(options.profile)
+          shadows_(options.shadows), profile_(options.profile)
     {
+        meshes_.setShadowMap(shadows_.map());
         checkGlError("creating the scene renderer");
         // Zero-copy camera frames are imported from their dmabufs where this display can.
         background_.enableDmabufImport(options.display ? *options.display : *EglDisplay::surfaceless());
@@ -113,6 +115,8 @@ public:
             throw InputError("exposure scale must be positive and finite, got " + std::to_string(scale));
         exposure_ = scale;
     }
+
+    void setLight(const DirectionalLight& light) override { shadows_.setLight(light); }
 
     void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
                 std::span<const DrawItem> items) override
@@ -179,6 +183,7 @@ private:
 
         stats_ = RenderStats{};
         frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
+        shadows_.render(models_, items, environment_.environmentFromCamera(), profile_, stats_);
         // The camera image first: the environment maps may show it (phantoms carry it).
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
@@ -191,7 +196,7 @@ private:
         }
 
         const std::span<const IblMaps* const> maps =
-            probes_.update(models_, items, environment_, meshes_, camera, profile_, stats_);
+            probes_.update(models_, items, environment_, meshes_, shadows_, camera, profile_, stats_);
 
         const auto start = std::chrono::steady_clock::now();
         target_.bindForDrawing();
@@ -199,7 +204,10 @@ private:
         for (int c = 0; c < 3; ++c)
             frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
         frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, exposure_);
-        meshes_.draw(frame_, models_, items, maps, -1, MeshPass::Phantoms::DepthOnly);
+        shadows_.fillView(frame_, glm::dmat4(1.0));
+        shadows_.drawReceivers(frame_, models_, items, maps);
+        meshes_.draw(frame_, models_, items, maps, -1,
+                     shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
         target_.finishFrame();
         if (profile_) {
             glFinish();
@@ -231,6 +239,7 @@ private:
     float exposure_ = 1.0f;
     std::vector<GpuModel> models_;
     EnvironmentProbes probes_;
+    ShadowPass shadows_;
     bool profile_;
     RenderStats stats_;
     FrameUniforms frame_;

@@ -92,6 +92,7 @@ MeshPass::MeshPass()
     glUniform1i(uniformLocation(program_, "uGlossy1Map"), GLint(kGlossy1MapUnit));
     glUniform1i(uniformLocation(program_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
     glUniform1i(uniformLocation(program_, "uMirrorMap"), GLint(kMirrorMapUnit));
+    glUniform1i(uniformLocation(program_, "uShadowMap"), GLint(kShadowMapUnit));
     bindUniformBlock(program_, "Frame", kFrameBlockBinding);
     bindUniformBlock(program_, "Material", kMaterialBlockBinding);
 
@@ -109,6 +110,8 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+    glActiveTexture(GL_TEXTURE0 + kShadowMapUnit);
+    glBindTexture(GL_TEXTURE_2D, shadowMap_);
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -121,14 +124,14 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         glUseProgram(depthOnly_.name());
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         for (size_t i = 0; i < items.size(); ++i)
-            if (int(i) != skip && items[i].phantom)
+            if (int(i) != skip && items[i].phantom && !items[i].receiverOnly)
                 drawItem(items[i], nullptr, models, state, depthOnlyCameraFromMeshLocation_, -1, detail, focalPixels);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     // Nearest first: the depth test then rejects hidden fragments before they are shaded.
     order_.clear();
     for (size_t i = 0; i < items.size(); ++i)
-        if (int(i) != skip && (phantoms == Phantoms::Shaded || !items[i].phantom))
+        if (int(i) != skip && !items[i].receiverOnly && (phantoms == Phantoms::Shaded || !items[i].phantom))
             order_.push_back({centreDepth(items[i], models), i});
     std::sort(order_.begin(), order_.end());
     StateCache state;

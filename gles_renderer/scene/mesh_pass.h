@@ -30,6 +30,7 @@ public:
     static constexpr GLuint kGlossy1MapUnit = 8;
     static constexpr GLuint kGlossy2MapUnit = 9;
     static constexpr GLuint kMirrorMapUnit = 10;
+    static constexpr GLuint kShadowMapUnit = 11; // the dominant light's (ShadowPass)
 
     MeshPass();
 
@@ -37,11 +38,13 @@ public:
     // item i lit by maps[i]. Every item's model id must index `models` (the caller checks).
     // `skip`: an item index not to draw (an environment map's owner), or -1.
     // `phantoms`: Shaded draws phantom items like the rest (environment maps); DepthOnly
-    // draws them first into depth alone (the frame: the camera image shows them).
+    // draws them first into depth alone (the frame: the camera image shows them); Skip leaves
+    // them out (the frame with shadows: ShadowPass::drawReceivers drew them). Receiver-only
+    // items (DrawItem::receiverOnly) are never drawn here.
     // `detail`: Full meshes (the frame) or their simplified Proxy stand-ins (environment maps),
     // each item's level chosen by proxyLevelFor from its size in pixels: `focalPixels` is
     // the view's focal length in pixels (<= 0: unknown, the finest levels).
-    enum class Phantoms { Shaded, DepthOnly };
+    enum class Phantoms { Shaded, DepthOnly, Skip };
     enum class Detail { Full, Proxy };
     void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
               std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded,
@@ -51,6 +54,10 @@ public:
     // centre's distance with focal length `focalPixels`; infinite where the camera is inside
     // its bounding sphere.
     static double modelPixels(const DrawItem& item, const GpuModel& model, double focalPixels);
+
+    // The depth texture the mesh program's shadow lookups read (bound at kShadowMapUnit by
+    // every draw; FrameUniforms says whether to read it). Owned by the caller.
+    void setShadowMap(GLuint texture) { shadowMap_ = texture; }
 
 private:
     // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
@@ -67,6 +74,7 @@ private:
     GlProgram depthOnly_;
     GLint depthOnlyCameraFromMeshLocation_;
     GlBuffer frameUniforms_;
+    GLuint shadowMap_ = 0;
 };
 
 } // namespace lumar

@@ -32,6 +32,29 @@ struct DrawItem {
     // objects behind it are hidden, the camera image shows through) and is drawn, lit, in
     // the environment maps (virtual objects reflect it).
     bool phantom = false;
+    // With `phantom`: a surface that only receives (DESIGN.md §6.5), e.g. the table under the
+    // objects where it has no phantom of its own. In the frame it darkens the camera image
+    // with the objects' shadows and contact occlusion where no phantom stands in front of it,
+    // writes no depth, and it is left out of the environment maps. Drawn only with shadows on.
+    bool receiverOnly = false;
+};
+
+// The dominant light (DESIGN.md §6.5): a share of the real environment's light coming from
+// one direction. It adds nothing: shadows remove it where the shadow map says it is blocked.
+struct DirectionalLight {
+    glm::dvec3 direction{0.0, 1.0, 0.0}; // towards the light, environment frame (+Y up); non-zero
+    glm::vec3 color{1.0f};               // linear
+    // colour * intensity is the irradiance on a surface facing the light, in the environment
+    // map's radiance units times steradians (a uniform sky of radiance L gives the ground pi L).
+    float intensity = 0.0f; // 0: no light (contact darkening only)
+};
+
+// Shadow maps and contact darkening (DESIGN.md §6.5). Off unless asked for: the app turns
+// them on from [shadows].
+struct ShadowOptions {
+    bool enabled = false;
+    int mapSize = 1024;    // texels per side
+    float softness = 1.5f; // PCF kernel radius, texels (0: the bilinear 2x2 comparison alone)
 };
 
 // When the per-object environment maps are re-rendered (DESIGN.md §6.1).
@@ -60,6 +83,7 @@ struct RenderStats {
     double shMs = 0;              // SH projection and the diffuse map
     double prefilterMs = 0;       // the glossy maps
     double shadingMs = 0;         // background and the objects in the frame
+    double shadowsMs = 0;         // the shadow map (the receivers are drawn within shading)
 };
 
 struct RenderOptions {
@@ -67,6 +91,7 @@ struct RenderOptions {
     // with 2 cores, 4x took the demo truck at 1280x720 from 10.5 to 28 ms per frame.
     int samples = 1;
     EnvironmentMapOptions environmentMaps;
+    ShadowOptions shadows;
     bool profile = false;
     // The EGL display to render on: a KMS display's (KmsDisplay::eglDisplay()) to present()
     // there; null: the process' surfaceless display (headless).
@@ -88,6 +113,10 @@ public:
     // Rotation from the OpenCV camera frame to the environment map's frame (+Y up), so the
     // real environment stays fixed to the world while the camera moves. Identity until set.
     virtual void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) = 0;
+    // The light whose shadows are drawn (with RenderOptions::shadows), environment frame. None
+    // until set. Throws InputError for a zero or non-finite direction, or a negative or
+    // non-finite colour or intensity.
+    virtual void setLight(const DirectionalLight& light) = 0;
 
     // Scales the virtual objects' radiance in the frame (not in the environment maps) before
     // tone mapping: the camera's exposure relative to the one the lighting was set up for,

@@ -24,11 +24,27 @@ struct FrameUniforms {
     // RGBA8 RGBM (decode them, and encode linear output); w: exposure, the factor on
     // radiance before tone mapping (the frame; 1 in environment maps).
     glm::vec4 frameParams{1.0f, 0.0f, 0.0f, 1.0f};
+    // The dominant light in this view (DESIGN.md §6.5), written by ShadowPass::fillView; all
+    // zero: no light, no shadows (the shading of a renderer without them).
+    // Shadow-map clip space (orthographic, [-1, 1]^3) from this view's camera frame.
+    glm::mat4 lightClipFromCamera{0.0f};
+    // xyz: unit direction towards the light, this view's camera frame; w: 1 = the shadow map
+    // holds this frame's casters (sample it), 0 = nothing to sample, everything is lit.
+    glm::vec4 lightDirection{0.0f};
+    // rgb: the light's irradiance at normal incidence (colour * intensity); w: 1 = a light is set.
+    glm::vec4 lightIrradiance{0.0f};
+    // x: PCF kernel radius (texels), y: 1 / map size, z: a texel's size (metres), w: depth bias
+    // (shadow-map depth units).
+    glm::vec4 shadowParams{0.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);
 static_assert(offsetof(FrameUniforms, environmentFromCamera) == 64);
 static_assert(offsetof(FrameUniforms, frameParams) == 112);
-static_assert(sizeof(FrameUniforms) == 128);
+static_assert(offsetof(FrameUniforms, lightClipFromCamera) == 128);
+static_assert(offsetof(FrameUniforms, lightDirection) == 192);
+static_assert(offsetof(FrameUniforms, lightIrradiance) == 208);
+static_assert(offsetof(FrameUniforms, shadowParams) == 224);
+static_assert(sizeof(FrameUniforms) == 240);
 
 // Per material: "uniform Material" in mesh.frag.
 struct MaterialUniforms {

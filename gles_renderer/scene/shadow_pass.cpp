@@ -1,0 +1,382 @@
+#include "gles_renderer/scene/shadow_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/error.h"
+#include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/mesh_pass.h"
+
+namespace lumar {
+namespace {
+
+// phantom_receiver.frag's kMaxOccluders: objects beyond it darken no contact (the first ones
+// in draw order are kept).
+constexpr int kMaxOccluders = 16;
+// The ellipsoid of the same volume as its bounding box: the inscribed one grown by (6/pi)^(1/3).
+constexpr double kEqualVolumeScale = 1.2407009817988;
+// A flat model (a quad) still occludes: no semi-axis below this share of the longest.
+constexpr double kMinAxisShare = 0.05;
+// The casters' depth is pushed away from the light by glPolygonOffset(factor, units): the
+// slope term keeps surfaces seen at a grazing angle from shadowing themselves.
+constexpr GLfloat kOffsetFactor = 2.0f;
+constexpr GLfloat kOffsetUnits = 4.0f;
+// Texels kept free around the casters beyond the PCF kernel's radius.
+constexpr double kMarginTexels = 2.0;
+
+using Clock = std::chrono::steady_clock;
+
+std::array<glm::dvec3, 8> boxCorners(const GpuModel& model, const glm::dmat4& cameraFromModel)
+{
+    std::array<glm::dvec3, 8> corners;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec3 local((i & 1) ? model.boundsMax.x : model.boundsMin.x,
+                               (i & 2) ? model.boundsMax.y : model.boundsMin.y,
+                               (i & 4) ? model.boundsMax.z : model.boundsMin.z);
+        corners[size_t(i)] = glm::dvec3(cameraFromModel * glm::dvec4(local, 1.0));
+    }
+    return corners;
+}
+
+bool isCaster(const DrawItem& item)
+{
+    return !item.phantom;
+}
+
+// Sets the winding of front faces for `cameraFromMesh` (see MeshPass); false when the
+// transform flattens the mesh to nothing.
+bool setFrontFaceFor(const glm::dmat4& cameraFromMesh)
+{
+    const double determinant = glm::determinant(glm::dmat3(cameraFromMesh));
+    if (determinant == 0.0 || !std::isfinite(determinant))
+        return false;
+    glFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+    return true;
+}
+
+bool finite(const glm::dvec3& v)
+{
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+} // namespace
+
+ShadowPass::ShadowPass(const ShadowOptions& options)
+    : options_(options), size_(options.enabled ? options.mapSize : 1), map_(GlTexture::create()),
+      frameUniforms_(GlBuffer::create())
+{
+    if (options_.enabled) {
+        GLint maxSize = 0;
+        glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+        if (size_ < 1 || size_ > maxSize)
+            throw InputError("shadow map size " + std::to_string(size_) + " is outside 1.." + std::to_string(maxSize) +
+                             " (GL_MAX_TEXTURE_SIZE)");
+        if (!(options_.softness >= 0.0f && options_.softness <= 64.0f))
+            throw InputError("shadow softness must be in [0, 64] texels, got " + std::to_string(options_.softness));
+    }
+    glBindTexture(GL_TEXTURE_2D, map_.name());
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, size_, size_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    checkGlError("creating the shadow map");
+    if (!options_.enabled)
+        return;
+
+    framebuffer_ = GlFramebuffer::create();
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, map_.name(), 0);
+    const GLenum none = GL_NONE;
+    glDrawBuffers(1, &none);
+    glReadBuffer(GL_NONE);
+    checkFramebufferComplete("shadow map");
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
+    checkGlError("creating the shadow pass");
+}
+
+// Linked at first use: a scene without casters or phantoms pays nothing, and the daemon's
+// first frame (its READY) does not wait for two more programs to compile.
+void ShadowPass::linkDepthProgram()
+{
+    if (depthProgram_)
+        return;
+    depthProgram_ = linkProgram(kDepthOnlyProgram);
+    depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
+    bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
+}
+
+void ShadowPass::linkReceiverProgram()
+{
+    if (receiverProgram_)
+        return;
+    receiverProgram_ = linkProgram(kPhantomReceiverProgram);
+    cameraFromMeshLocation_ = uniformLocation(receiverProgram_, "uCameraFromMesh");
+    normalFromMeshLocation_ = uniformLocation(receiverProgram_, "uNormalFromMesh");
+    occluderCountLocation_ = uniformLocation(receiverProgram_, "uOccluderCount");
+    unitFromCameraLocation_ = uniformLocation(receiverProgram_, "uUnitFromCamera");
+    unitNormalFromCameraLocation_ = uniformLocation(receiverProgram_, "uUnitNormalFromCamera");
+    depthPassLocation_ = uniformLocation(receiverProgram_, "uDepthPass");
+    bindUniformBlock(receiverProgram_, "Frame", kFrameBlockBinding);
+    glUseProgram(receiverProgram_.name());
+    glUniform1i(uniformLocation(receiverProgram_, "uDiffuseMap"), GLint(MeshPass::kDiffuseMapUnit));
+    glUniform1i(uniformLocation(receiverProgram_, "uShadowMap"), GLint(MeshPass::kShadowMapUnit));
+}
+
+void ShadowPass::setLight(const DirectionalLight& light)
+{
+    const double length = glm::length(light.direction);
+    if (!(length > 0.0) || !std::isfinite(length))
+        throw InputError("the light's direction must be finite and non-zero");
+    for (int c = 0; c < 3; ++c)
+        if (!(light.color[c] >= 0.0f) || !std::isfinite(light.color[c]))
+            throw InputError("the light's colour must be finite and >= 0");
+    if (!(light.intensity >= 0.0f) || !std::isfinite(light.intensity))
+        throw InputError("the light's intensity must be finite and >= 0");
+    light_ = light;
+    light_.direction /= length;
+    lightSet_ = light.intensity > 0.0f && glm::length(light.color) > 0.0f;
+}
+
+void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                        const glm::dmat3& environmentFromCamera, bool profile, RenderStats& stats)
+{
+    mapValid_ = false;
+    if (!enabled() || !lightSet_)
+        return;
+    const auto start = Clock::now();
+    if (fitLightCamera(models, items, environmentFromCamera)) {
+        linkDepthProgram();
+        drawCasters(models, items);
+        mapValid_ = true;
+    }
+    if (profile) {
+        glFinish();
+        stats.shadowsMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    }
+}
+
+bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                const glm::dmat3& environmentFromCamera)
+{
+    // The light camera's axes are chosen in the environment frame (fixed to the world), so the
+    // map's texel grid does not turn with the camera, then moved into the camera frame.
+    const glm::dvec3 forwardEnv = -light_.direction; // the light travels along it
+    const glm::dvec3 helper = std::abs(forwardEnv.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 rightEnv = glm::normalize(glm::cross(helper, forwardEnv));
+    const glm::dvec3 upEnv = glm::cross(forwardEnv, rightEnv);
+    const glm::dmat3 cameraFromEnvironment = glm::transpose(environmentFromCamera);
+    const glm::dvec3 right = cameraFromEnvironment * rightEnv;
+    const glm::dvec3 up = cameraFromEnvironment * upEnv;
+    const glm::dvec3 forward = cameraFromEnvironment * forwardEnv;
+    lightDirection_ = -forward;
+    glm::dmat4 lightViewFromCamera(1.0);
+    for (int c = 0; c < 3; ++c) {
+        lightViewFromCamera[c][0] = right[c];
+        lightViewFromCamera[c][1] = up[c];
+        lightViewFromCamera[c][2] = forward[c];
+    }
+
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    glm::dvec3 low(inf), high(-inf);
+    double receiversFar = -inf;
+    for (const DrawItem& item : items) {
+        for (const glm::dvec3& corner : boxCorners(models[size_t(item.model)], item.cameraFromModel)) {
+            const glm::dvec3 p(lightViewFromCamera * glm::dvec4(corner, 1.0));
+            if (!finite(p))
+                continue;
+            if (isCaster(item)) {
+                low = glm::min(low, p);
+                high = glm::max(high, p);
+            } else {
+                receiversFar = std::max(receiversFar, p.z);
+            }
+        }
+    }
+    if (!(low.x <= high.x))
+        return false; // no caster
+    // Laterally the map covers the casters alone (plus the kernel's reach): a receiver point
+    // outside their footprint seen from the light has no caster between it and the light.
+    // In depth it reaches the receivers behind them, whose distance the lookups compare.
+    const double extent = std::max({high.x - low.x, high.y - low.y, 1e-4});
+    const double margin = std::min(double(options_.softness) + kMarginTexels, 0.25 * size_);
+    const double side = extent * size_ / (size_ - 2.0 * margin);
+    texelMetres_ = side / size_;
+    const double nearZ = low.z - 2.0 * texelMetres_;
+    const double farZ = std::max(high.z, receiversFar) + 2.0 * texelMetres_;
+    const glm::dvec2 centre = 0.5 * (glm::dvec2(low) + glm::dvec2(high));
+    // Half a texel of depth, on top of the pass's polygon offset and the lookups' normal offset.
+    depthBias_ = 0.5 * texelMetres_ / (farZ - nearZ);
+
+    glm::dmat4 clipFromLightView(1.0);
+    clipFromLightView[0][0] = 2.0 / side;
+    clipFromLightView[1][1] = 2.0 / side;
+    clipFromLightView[2][2] = 2.0 / (farZ - nearZ);
+    clipFromLightView[3] =
+        glm::dvec4(-2.0 * centre.x / side, -2.0 * centre.y / side, -2.0 * nearZ / (farZ - nearZ) - 1.0, 1.0);
+    lightClipFromCamera_ = clipFromLightView * lightViewFromCamera;
+    return true;
+}
+
+void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.name());
+    glViewport(0, 0, size_, size_);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE); // both sides cast: open meshes and double-sided materials too
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(kOffsetFactor, kOffsetUnits);
+
+    FrameUniforms lightFrame;
+    lightFrame.clipFromCamera = glm::mat4(lightClipFromCamera_);
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &lightFrame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+    glUseProgram(depthProgram_.name());
+    for (const DrawItem& item : items) {
+        if (!isCaster(item))
+            continue;
+        const GpuModel& model = models[size_t(item.model)];
+        // The simplified stand-in whose error stays within a texel of the map.
+        const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
+        const glm::dmat3 linear(item.cameraFromModel);
+        const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+        const double texels = scale * std::max({extent.x, extent.y, extent.z}) / texelMetres_;
+        for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
+            const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
+            glUniformMatrix4fv(depthCameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMesh));
+            glBindVertexArray(primitive.vertexArray.name());
+            glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+        }
+    }
+    glBindVertexArray(0);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView) const
+{
+    if (!enabled())
+        return;
+    const glm::dmat3 viewFromCamera = glm::inverse(glm::dmat3(cameraFromView));
+    frame.lightClipFromCamera = glm::mat4(lightClipFromCamera_ * cameraFromView);
+    frame.lightDirection = glm::vec4(glm::normalize(viewFromCamera * lightDirection_), mapValid_ ? 1.0f : 0.0f);
+    frame.lightIrradiance = glm::vec4(light_.color * light_.intensity, lightSet_ ? 1.0f : 0.0f);
+    frame.shadowParams = glm::vec4(options_.softness, 1.0f / float(size_), float(texelMetres_), float(depthBias_));
+}
+
+void ShadowPass::setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const
+{
+    std::array<glm::mat4, kMaxOccluders> unitFromCamera{};
+    std::array<glm::mat3, kMaxOccluders> unitNormalFromCamera{};
+    int count = 0;
+    for (const DrawItem& item : items) {
+        if (!isCaster(item) || count == kMaxOccluders)
+            continue;
+        const GpuModel& model = models[size_t(item.model)];
+        glm::dvec3 half = 0.5 * kEqualVolumeScale * (glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin));
+        const double longest = std::max({half.x, half.y, half.z});
+        const double determinant = glm::determinant(glm::dmat3(item.cameraFromModel));
+        if (!(longest > 0.0) || determinant == 0.0 || !std::isfinite(determinant))
+            continue;
+        half = glm::max(half, glm::dvec3(kMinAxisShare * longest));
+        const glm::dvec3 centre = 0.5 * (glm::dvec3(model.boundsMin) + glm::dvec3(model.boundsMax));
+        const glm::dmat4 unitFromModel =
+            glm::scale(glm::dmat4(1.0), 1.0 / half) * glm::translate(glm::dmat4(1.0), -centre);
+        const glm::dmat4 unit = unitFromModel * glm::inverse(item.cameraFromModel);
+        unitFromCamera[size_t(count)] = glm::mat4(unit);
+        unitNormalFromCamera[size_t(count)] = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(unit))));
+        ++count;
+    }
+    glUniform1i(occluderCountLocation_, count);
+    if (count > 0) {
+        glUniformMatrix4fv(unitFromCameraLocation_, count, GL_FALSE, glm::value_ptr(unitFromCamera[0]));
+        glUniformMatrix3fv(unitNormalFromCameraLocation_, count, GL_FALSE, glm::value_ptr(unitNormalFromCamera[0]));
+    }
+}
+
+void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<GpuModel>& models,
+                               std::span<const DrawItem> items, std::span<const IblMaps* const> maps)
+{
+    if (!enabled() || std::none_of(items.begin(), items.end(), [](const DrawItem& i) { return i.phantom; }))
+        return;
+    linkReceiverProgram();
+    glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+    glUseProgram(receiverProgram_.name());
+    setOccluders(models, items);
+    glActiveTexture(GL_TEXTURE0 + MeshPass::kShadowMapUnit);
+    glBindTexture(GL_TEXTURE_2D, map_.name());
+
+    // receiverOnly: which items; culling: whether single-sided materials hide back faces.
+    const auto drawItems = [&](bool receiverOnly, bool culling) {
+        for (size_t i = 0; i < items.size(); ++i) {
+            const DrawItem& item = items[i];
+            if (!item.phantom || item.receiverOnly != receiverOnly)
+                continue;
+            glActiveTexture(GL_TEXTURE0 + MeshPass::kDiffuseMapUnit);
+            glBindTexture(GL_TEXTURE_CUBE_MAP, maps[i]->diffuse.name());
+            const GpuModel& model = models[size_t(item.model)];
+            for (const GpuPrimitive& primitive : model.primitives) {
+                const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+                if (!setFrontFaceFor(cameraFromMesh))
+                    continue;
+                if (culling && !model.materials[primitive.material].doubleSided)
+                    glEnable(GL_CULL_FACE);
+                else
+                    glDisable(GL_CULL_FACE);
+                const glm::mat4 cameraFromMeshF(cameraFromMesh);
+                const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(glm::dmat3(cameraFromMesh))));
+                glUniformMatrix4fv(cameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+                glUniformMatrix3fv(normalFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+                glBindVertexArray(primitive.vertexArray.name());
+                glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+            }
+        }
+    };
+
+    glEnable(GL_DEPTH_TEST);
+    // 1. The phantoms' depth, as the depth-only pass would write it (same program: the second
+    //    pass meets exactly these depths).
+    glUniform1i(depthPassLocation_, 1);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    drawItems(false, true);
+    // 2. Their darkening, once per pixel: only the nearest phantom surface passes GL_EQUAL.
+    glUniform1i(depthPassLocation_, 0);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_EQUAL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_DST_COLOR, GL_ZERO);
+    drawItems(false, true);
+    // 3. The receiver-only surfaces where no phantom is in front, seen from either side.
+    glDepthFunc(GL_LESS);
+    drawItems(true, false);
+
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glBindVertexArray(0);
+    glActiveTexture(GL_TEXTURE0);
+}
+
+} // namespace lumar

@@ -1,0 +1,89 @@
+// Shadows of the dominant light (DESIGN.md §6.5). Each frame a depth-only pass draws the
+// virtual objects (the casters) as the light sees them, with an orthographic camera fitted to
+// their bounding boxes; every view (the frame, the cube faces of the environment maps) then
+// looks its points up in that map through FrameUniforms' light members (fillView), so virtual
+// objects shadow each other in mesh.frag. In the frame, the phantoms and the receiver-only
+// surfaces are drawn by drawReceivers instead of depth-only: they darken the camera image by
+// the share of light the objects take from them (shadow) and the contact occlusion of the
+// objects standing on them (phantom_receiver.frag).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "gles_renderer/gl/gl_object.h"
+#include "gles_renderer/ibl_gpu/ibl_maps.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/scene_renderer.h"
+#include "gles_renderer/scene/uniform_blocks.h"
+
+namespace lumar {
+
+class ShadowPass {
+public:
+    // Creates the map (a 1 x 1 stand-in when shadows are off, so the mesh program always has
+    // a depth texture bound) and the programs. Throws RuntimeError when GL cannot.
+    explicit ShadowPass(const ShadowOptions& options);
+
+    [[nodiscard]] bool enabled() const { return options_.enabled; }
+    // Environment frame. Throws InputError for a zero or non-finite direction, or a negative
+    // or non-finite colour or intensity.
+    void setLight(const DirectionalLight& light);
+
+    // Renders this frame's map from `items` (casters: the items that are not phantoms), the
+    // light turned into the frame's camera frame by `environmentFromCamera`. Leaves the GL
+    // framebuffer binding and viewport changed. Does nothing when shadows are off.
+    void render(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                const glm::dmat3& environmentFromCamera, bool profile, RenderStats& stats);
+
+    // Writes the light's members of `frame` for a view whose camera frame sits at
+    // `cameraFromView` in the frame's camera frame (identity for the frame itself). Leaves them
+    // zero (no light, no shadows: today's shading) when shadows are off.
+    void fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView) const;
+
+    // The shadow map: a depth texture with GL_COMPARE_REF_TO_TEXTURE and GL_LINEAR filtering.
+    [[nodiscard]] GLuint map() const { return map_.name(); }
+
+    // Into the bound framebuffer, over the camera image: the phantoms (their depth, then their
+    // darkening) and then the receiver-only items (darkening where no phantom is in front),
+    // item i with maps[i]'s diffuse map as its real irradiance. `frame` must have been filled
+    // by fillView for the frame. Does nothing when shadows are off.
+    void drawReceivers(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                       std::span<const IblMaps* const> maps);
+
+private:
+    // Fits the light's orthographic camera to this frame's casters (and receivers in depth);
+    // false when there is nothing to cast a shadow.
+    bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                        const glm::dmat3& environmentFromCamera);
+    void linkDepthProgram();
+    void linkReceiverProgram();
+    void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
+    void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
+
+    ShadowOptions options_;
+    int size_;
+    DirectionalLight light_;
+    bool lightSet_ = false;
+    // This frame's light, in the frame's camera frame.
+    glm::dvec3 lightDirection_{0.0, 0.0, -1.0};
+    glm::dmat4 lightClipFromCamera_{1.0};
+    double texelMetres_ = 0.0;
+    double depthBias_ = 0.0;
+    bool mapValid_ = false;
+
+    GlTexture map_;
+    GlFramebuffer framebuffer_;
+    GlProgram depthProgram_;
+    GLint depthCameraFromMeshLocation_ = -1;
+    GlProgram receiverProgram_;
+    GLint cameraFromMeshLocation_ = -1;
+    GLint normalFromMeshLocation_ = -1;
+    GLint occluderCountLocation_ = -1;
+    GLint unitFromCameraLocation_ = -1;
+    GLint unitNormalFromCameraLocation_ = -1;
+    GLint depthPassLocation_ = -1;
+    GlBuffer frameUniforms_;
+};
+
+} // namespace lumar

@@ -1,0 +1,315 @@
+// Shadows and contact darkening (DESIGN.md §6.5): a configured directional light's shadow map,
+// virtual objects shadowing each other (mesh.frag), the differential darkening of the camera
+// image on phantoms and receiver-only ground (phantom_receiver.frag), and the analytic contact
+// occlusion. The scene is seen from 1 m straight above the world origin (world z up), under a
+// uniform environment, over a uniform grey camera image.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "gl_test_support.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kWidth = 200, kHeight = 150;
+constexpr double kFocal = 250.0, kCx = 99.5, kCy = 74.5;
+constexpr uint8_t kGrey = 128;
+constexpr double kPi = std::numbers::pi;
+
+const CameraIntrinsics& intrinsics()
+{
+    static const CameraIntrinsics k = test::makeIntrinsics(kWidth, kHeight, kFocal, kFocal, kCx, kCy);
+    return k;
+}
+
+// The camera 1 m above the origin looking down: image x along world x, image y along -y.
+glm::dmat4 cameraFromWorld()
+{
+    glm::dmat4 m(1.0);
+    m[1][1] = -1.0;
+    m[2][2] = -1.0;
+    m[3] = glm::dvec4(0.0, 0.0, 1.0, 1.0);
+    return m;
+}
+
+// World (z up, as a marker frame) to the environment frame (+Y up): (x, y, z) -> (x, z, -y).
+glm::dmat3 environmentFromWorld()
+{
+    return glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0));
+}
+
+// Where world point p appears (pixel centre coordinates).
+glm::dvec2 pixelOf(const glm::dvec3& p)
+{
+    const glm::dvec3 c(cameraFromWorld() * glm::dvec4(p, 1.0));
+    return {kCx + kFocal * c.x / c.z, kCy + kFocal * c.y / c.z};
+}
+
+glm::dmat4 placed(const glm::dvec3& centre, const glm::dvec3& size)
+{
+    glm::dmat4 m(1.0);
+    m[0][0] = size.x;
+    m[1][1] = size.y;
+    m[2][2] = size.z;
+    m[3] = glm::dvec4(centre, 1.0);
+    return cameraFromWorld() * m;
+}
+
+// Towards the light: elevation above the ground, azimuth from world +x towards +y.
+glm::dvec3 worldDirection(double elevationDeg, double azimuthDeg)
+{
+    const double e = elevationDeg * kPi / 180.0, a = azimuthDeg * kPi / 180.0;
+    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+DirectionalLight light(const glm::dvec3& worldTowardsLight, float intensity)
+{
+    DirectionalLight l;
+    l.direction = environmentFromWorld() * worldTowardsLight;
+    l.color = glm::vec3(1.0f);
+    l.intensity = intensity;
+    return l;
+}
+
+RenderOptions shadowsOn()
+{
+    RenderOptions options;
+    options.shadows.enabled = true;
+    options.shadows.mapSize = 1024;
+    options.shadows.softness = 1.5f;
+    return options;
+}
+
+// A renderer under a uniform sky of radiance `radiance`, its environment turned with the world.
+void prepare(SceneRenderer& renderer, float radiance)
+{
+    renderer.setEnvironment(test::uniformEnvironment(radiance), 1.0f);
+    renderer.setEnvironmentRotation(environmentFromWorld() * glm::dmat3(glm::inverse(cameraFromWorld())));
+}
+
+Image8 renderOverGrey(SceneRenderer& renderer, std::span<const DrawItem> items)
+{
+    renderer.render(test::solidImage(kWidth, kHeight, kGrey, kGrey, kGrey), intrinsics(), items);
+    Image8 out;
+    renderer.readback(out);
+    return out;
+}
+
+int code(const Image8& image, const glm::dvec2& pixel)
+{
+    return image.at(int(std::lround(pixel.x)), int(std::lround(pixel.y)))[1];
+}
+
+// A receiver-only ground: a quad of side 1 in the plane z = 0, facing +z (as the app's).
+GltfModel groundQuad()
+{
+    return test::makeQuad({glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(0.5f, -0.5f, 0.0f), glm::vec3(0.5f, 0.5f, 0.0f),
+                           glm::vec3(-0.5f, 0.5f, 0.0f)},
+                          GltfMaterial{});
+}
+
+// The ground: a phantom slab whose top is the plane z = 0.
+DrawItem groundPhantom(ModelId cube)
+{
+    return {cube, placed({0.0, 0.0, -0.01}, {1.2, 1.2, 0.02}), -1, true};
+}
+
+// The centroid of the pixels darker than the camera image by more than 10 code values.
+glm::dvec2 darkCentroid(const Image8& image, int* count = nullptr)
+{
+    glm::dvec2 sum(0.0);
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            if (image.at(x, y)[1] < kGrey - 10) {
+                sum += glm::dvec2(x, y);
+                ++n;
+            }
+    if (count)
+        *count = n;
+    return n > 0 ? sum / double(n) : glm::dvec2(-1.0);
+}
+
+// A box floating 0.3 m above the ground phantom, far enough (4.8 radii of its equal-volume
+// sphere) that its contact darkening is exactly zero: the ground's darkening is its shadow
+// alone. Uniform sky L = 1 (ground irradiance E_env = pi), light intensity 2 at 60 degrees:
+// E_L = 2 sin 60 = 1.732, so the umbra multiplies the linear camera value by
+// 1 - E_L / E_env = 0.449, written as the encoded factor 0.449^(1/2.2) = 0.695: 128 -> 89.
+TEST(Shadows, AFloatingBoxShadowsTheGroundPhantomByTheLightsShare)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
+    renderer.setLight(light(towardsLight, 2.0f));
+    const ModelId cube = renderer.addModel(makeCube());
+    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
+    const DrawItem items[] = {groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+    const Image8 out = renderOverGrey(renderer, items);
+
+    // The umbra's middle: the box centre's shadow on the ground.
+    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    const double ratio = 1.0 - 2.0 * std::sin(kPi / 3.0) / kPi;
+    const double expected = kGrey * std::pow(ratio, 1.0 / 2.2);
+    for (const glm::dvec3& offset : {glm::dvec3(0.0), glm::dvec3(0.02, 0.0, 0.0), glm::dvec3(0.0, 0.02, 0.0)})
+        EXPECT_NEAR(code(out, pixelOf(shadowCentre + offset)), expected, 3.0)
+            << "ground at " << offset.x << "," << offset.y;
+    // Pixels outside every shadow: the camera image within one code value (most exactly).
+    int unchanged = 0, total = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            const bool farFromShadow = x > int(pixelOf({0.0, 0.0, 0.0}).x) + 45 || y < 20 || y > kHeight - 20;
+            if (!farFromShadow)
+                continue;
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_NEAR(out.at(x, y)[c], kGrey, 1) << x << "," << y;
+                unchanged += out.at(x, y)[c] == kGrey;
+                ++total;
+            }
+        }
+    EXPECT_EQ(unchanged, total);
+}
+
+TEST(Shadows, TheShadowMovesWithTheLight)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    const ModelId cube = renderer.addModel(makeCube());
+    const DrawItem items[] = {groundPhantom(cube), {cube, placed({0.0, 0.0, 0.3}, glm::dvec3(0.1)), -1}};
+    // Light from +x: the shadow falls towards -x (image left of the box).
+    renderer.setLight(light(worldDirection(60.0, 0.0), 2.0f));
+    int fromX = 0, fromY = 0;
+    const glm::dvec2 centroidX = darkCentroid(renderOverGrey(renderer, items), &fromX);
+    // Light from +y: the shadow falls towards -y (image below the box, larger rows).
+    renderer.setLight(light(worldDirection(60.0, 90.0), 2.0f));
+    const glm::dvec2 centroidY = darkCentroid(renderOverGrey(renderer, items), &fromY);
+    ASSERT_GT(fromX, 200);
+    ASSERT_GT(fromY, 200);
+    // The box centre's shadow lies 0.173 m from the origin on the ground: 43 px.
+    const glm::dvec2 origin = pixelOf({0.0, 0.0, 0.0});
+    EXPECT_NEAR(centroidX.x, origin.x - 43.3, 6.0);
+    EXPECT_NEAR(centroidX.y, origin.y, 3.0);
+    EXPECT_NEAR(centroidY.x, origin.x, 3.0);
+    EXPECT_NEAR(centroidY.y, origin.y + 43.3, 6.0);
+}
+
+// Two virtual spheres (radius 0.1) under a uniform sky L = 0.5, the light (intensity 1) 45
+// degrees above +x. The caster sits 0.35 m towards the light from the receiver, so the
+// receiver's point facing the light (n = l) is in full umbra. There the diffuse irradiance
+// drops from E_env = 0.5 pi to E_env - E_L = 0.5 pi - 1: the white receiver's radiance drops
+// by rho_d E_L / pi = 0.318 (its specular part stays), from about 0.52 to 0.20.
+TEST(Shadows, OneVirtualSphereShadowsAnother)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 0.5f);
+    const glm::dvec3 towardsLight = worldDirection(45.0, 0.0);
+    renderer.setLight(light(towardsLight, 1.0f));
+    GltfModel sphere = makeUvSphere(48, 24);
+    sphere.materials[0].baseColorFactor = glm::vec4(1.0f);
+    sphere.materials[0].metallicFactor = 0.0f;
+    sphere.materials[0].roughnessFactor = 1.0f;
+    const ModelId model = renderer.addModel(sphere);
+    const glm::dvec3 centre(0.0, 0.0, 0.1);
+    const DrawItem receiver{model, placed(centre, glm::dvec3(0.2)), -1};
+    const DrawItem both[] = {receiver, {model, placed(centre + 0.35 * towardsLight, glm::dvec3(0.2)), -1}};
+    const glm::dvec2 facingLight = pixelOf(centre + 0.1 * towardsLight);
+
+    const Image8 lit = renderOverGrey(renderer, {&receiver, 1});
+    const Image8 shadowed = renderOverGrey(renderer, both);
+    // Back to linear radiance through the published curves (ACES, then sRGB), by bisection.
+    const auto radianceOf = [](int value) {
+        double low = 0.0, high = 16.0;
+        for (int i = 0; i < 60; ++i) {
+            const double mid = 0.5 * (low + high);
+            (255.0 * test::srgbEncode(test::acesFilmic(mid)) < value ? low : high) = mid;
+        }
+        return 0.5 * (low + high);
+    };
+    const double litRadiance = radianceOf(code(lit, facingLight));
+    const double shadowedRadiance = radianceOf(code(shadowed, facingLight));
+    EXPECT_NEAR(litRadiance, 0.52, 0.03);
+    // Stated: the drop is rho_d E_L / pi = 1 / pi within 0.03 (a code value is ~0.005 here).
+    EXPECT_NEAR(litRadiance - shadowedRadiance, 1.0 / kPi, 0.03);
+}
+
+// Convex objects cannot shadow themselves where they face the light: a sphere alone, and the
+// ground around a floating box outside its shadow, look as with shadows off (no acne).
+TEST(Shadows, NoShadowAcneOnAConvexObject)
+{
+    LUMAR_RENDERER_OR_SKIP(on, kWidth, kHeight, shadowsOn());
+    LUMAR_RENDERER_OR_SKIP(off, kWidth, kHeight);
+    GltfModel sphere = makeUvSphere(48, 24);
+    sphere.materials[0].metallicFactor = 0.0f;
+    sphere.materials[0].roughnessFactor = 1.0f;
+    Image8 images[2];
+    SceneRenderer* renderers[] = {&on, &off};
+    for (int r = 0; r < 2; ++r) {
+        prepare(*renderers[r], 0.5f);
+        renderers[r]->setLight(light(worldDirection(30.0, 20.0), 1.0f));
+        const DrawItem item{renderers[r]->addModel(sphere), placed({0.0, 0.0, 0.1}, glm::dvec3(0.3)), -1};
+        images[r] = renderOverGrey(*renderers[r], {&item, 1});
+    }
+    int worst = 0;
+    for (size_t i = 0; i < images[0].data.size(); ++i)
+        worst = std::max(worst, std::abs(int(images[0].data[i]) - int(images[1].data[i])));
+    EXPECT_LE(worst, 1);
+}
+
+// With shadows off, a light set changes nothing: the frame is today's (the phantom depth-only,
+// the camera image bit-exact through it), for phantoms, virtual objects and the ground alike.
+TEST(Shadows, OffLeavesTheFrameAsWithoutShadows)
+{
+    RenderOptions options;
+    options.shadows.enabled = false;
+    LUMAR_RENDERER_OR_SKIP(withLight, kWidth, kHeight, options);
+    LUMAR_RENDERER_OR_SKIP(plain, kWidth, kHeight);
+    Image8 images[2];
+    SceneRenderer* renderers[] = {&withLight, &plain};
+    for (int r = 0; r < 2; ++r) {
+        prepare(*renderers[r], 0.7f);
+        if (r == 0)
+            renderers[r]->setLight(light(worldDirection(50.0, 30.0), 1.5f));
+        const ModelId cube = renderers[r]->addModel(makeCube());
+        const ModelId plane = renderers[r]->addModel(groundQuad());
+        const DrawItem items[] = {groundPhantom(cube),
+                                  {cube, placed({0.0, 0.0, 0.05}, glm::dvec3(0.1)), -1},
+                                  {plane, placed({0.0, 0.0, 0.0}, {0.8, 0.8, 1.0}), -1, true, true}};
+        images[r] = renderOverGrey(*renderers[r], items);
+    }
+    int worst = 0;
+    for (size_t i = 0; i < images[0].data.size(); ++i)
+        worst = std::max(worst, std::abs(int(images[0].data[i]) - int(images[1].data[i])));
+    EXPECT_LE(worst, 1);
+    // The ground around the box is the camera image, exactly.
+    EXPECT_EQ(code(images[0], pixelOf({-0.07, 0.0, 0.0})), kGrey);
+}
+
+// Contact darkening under a diffuse sky with no light: a 0.1 m box standing on a receiver-only
+// ground plane. Next to its base (7 cm from its centre) the ground sees the box's equal-volume
+// sphere (radius 0.062, centre 0.05 m up) at d = 1.39 radii, 36 degrees above the horizon:
+// it blocks cos(54 deg) / d^2 = 0.30 of the sky (0.28 with the fade-out window), so the
+// linear value drops to about 0.72 and the encoded one to 0.72^(1/2.2) = 0.86 of the far
+// ground's. Stated: between 0.80 and 0.92. Far away (0.4 m) the ground is the camera image.
+TEST(Shadows, ContactDarkeningUnderADiffuseSky)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f); // no light set: contact darkening alone
+    const ModelId cube = renderer.addModel(makeCube());
+    const ModelId plane = renderer.addModel(groundQuad());
+    const DrawItem scene[] = {{cube, placed({0.0, 0.0, 0.05}, glm::dvec3(0.1)), -1},
+                              {plane, placed({0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}), -1, true, true}};
+    const Image8 out = renderOverGrey(renderer, scene);
+    const int near = code(out, pixelOf({-0.07, 0.0, 0.0}));
+    const int far = code(out, pixelOf({-0.35, 0.0, 0.0}));
+    EXPECT_EQ(far, kGrey);
+    EXPECT_GT(double(near) / far, 0.80) << near << " vs " << far;
+    EXPECT_LT(double(near) / far, 0.92) << near << " vs " << far;
+    // Symmetric about the box, and fading with distance.
+    EXPECT_NEAR(code(out, pixelOf({0.07, 0.0, 0.0})), near, 1);
+    EXPECT_GT(code(out, pixelOf({-0.12, 0.0, 0.0})), near);
+}
+
+} // namespace
+} // namespace lumar
