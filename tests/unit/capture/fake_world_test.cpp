@@ -157,9 +157,10 @@ TEST(FakeWorld, TheEnvironmentShowsWhereNoTableIs)
     EXPECT_LT(p99, 10.0);
 }
 
-TEST(FakeWorld, TheTableFollowsTheExposure)
+// Halving the exposure halves the table's linear values, under the map and in the plain room.
+void expectTableFollowsExposure(const CameraConfig& config)
 {
-    FakeCamera camera(worldConfig());
+    FakeCamera camera(config);
     Frame full;
     Frame half;
     const uint64_t k = 30;
@@ -198,6 +199,14 @@ TEST(FakeWorld, TheTableFollowsTheExposure)
     EXPECT_THROW(camera.setExposure(0.0), InputError);
     EXPECT_THROW(camera.setExposure(-1.0), InputError);
     EXPECT_THROW(camera.setExposure(std::nan("")), InputError);
+}
+
+TEST(FakeWorld, TheTableFollowsTheExposure)
+{
+    expectTableFollowsExposure(worldConfig());
+    CameraConfig room = worldConfig();
+    room.fakeEnvironment.clear();
+    expectTableFollowsExposure(room);
 }
 
 TEST(FakeWorld, ABoxHidesTheTableAndShowsItsShadedColour)
