@@ -37,10 +37,4 @@ glm::dmat4 markerFromModel(const ObjectConfig& object, const glm::vec3& boundsMi
     return m;
 }
 
-glm::dmat3 environmentFromMarker()
-{
-    // Marker (x, y, z) with z up -> environment (x, z, -y) with y up: a -90 degree turn about x.
-    return glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(-90.0), glm::dvec3(1, 0, 0)));
-}
-
 } // namespace lumar

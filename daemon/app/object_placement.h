@@ -39,8 +39,4 @@ namespace lumar {
 
 glm::dmat4 markerFromModel(const ObjectConfig& object, const glm::vec3& boundsMin, const glm::vec3& boundsMax);
 
-// Rotation taking the marker frame (Z up) to the environment map's frame (+Y up,
-// gles_renderer/assets/environment_map.h), so the real environment stays fixed to the table.
-glm::dmat3 environmentFromMarker();
-
 } // namespace lumar

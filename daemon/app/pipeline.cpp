@@ -9,6 +9,7 @@
 
 #include "capture/factory/capture_factory.h"
 #include "capture/prefetching_source.h"
+#include "core/environment_frame.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "gles_renderer/assets/builtin_shapes.h"

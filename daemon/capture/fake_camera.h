@@ -5,8 +5,15 @@
 //
 // World frame: the table-top is the plane z = 0 with z up; each tag's marker frame is the
 // world frame translated to the tag's centre (FakeTagConfig::position).
+//
+// With an environment map (CameraConfig::fakeEnvironment, from [environment]) the camera shows
+// the world the renderer lights virtual objects with: the map at infinity around the table,
+// the table and its tags lit by the map's irradiance, and real objects standing on it
+// (CameraConfig::fakeObjects) that are shaded by it and shadow the table. Linear radiance L
+// becomes code values as 255 · sRGB(clamp(exposure · L, 0, 1)). Without a map: a plain room.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "capture/capture_source.h"
@@ -38,6 +45,12 @@ public:
     [[nodiscard]] Pose cameraFromWorld(uint64_t sequence) const;
     [[nodiscard]] std::vector<TagGroundTruth> groundTruth(uint64_t sequence) const;
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
+
+    // The exposure of every frame rendered from now on (camera.exposure at start); the scene is
+    // re-lit at the next frame. Safe to call from any thread. Throws InputError unless it is
+    // positive and finite.
+    void setExposure(double exposure);
+    [[nodiscard]] double exposure() const;
 
 private:
     struct Impl;

@@ -101,7 +101,7 @@ private:
 
 } // namespace
 
-TableTexture::TableTexture(uint64_t seed) : texels_(size_t(kResolution) * kResolution)
+TableTexture::TableTexture(uint64_t seed, bool lamp) : texels_(size_t(kResolution) * kResolution)
 {
     SplitMix64 rng{splitMix64Hash(seed ^ 0x7461626c65ULL)}; // "table": independent of the noise stream
     const RingProfile rings(rng);
@@ -125,7 +125,8 @@ TableTexture::TableTexture(uint64_t seed) : texels_(size_t(kResolution) * kResol
             const float grain = rings.at(y + warp);
             const float fibre = fibres.at(tx, ty);
             const float mixDark = std::clamp(0.85f * grain + 0.12f * fibre + 0.08f * blotches.at(tx, ty), 0.0f, 1.0f);
-            const float brightness = (1.0f + 0.07f * tint.at(tx, ty) + 0.03f * fibre) * fake_scene::tableLighting(x, y);
+            const float brightness =
+                (1.0f + 0.07f * tint.at(tx, ty) + 0.03f * fibre) * (lamp ? fake_scene::tableLighting(x, y) : 1.0f);
             texels_[size_t(ty) * kResolution + size_t(tx)] =
                 fake_scene::packRgb((early + mixDark * (late - early)) * brightness);
         }

@@ -1,6 +1,7 @@
 // The fake scene's table-top: a seeded, procedural wood texture (growth-ring grain along x,
-// warped, with fibre streaks and slow tint changes) with the lamp's light baked in, stored
-// once per camera so rendering a frame is one texel fetch per ray.
+// warped, with fibre streaks and slow tint changes), stored once per camera so rendering a
+// frame is one texel fetch per ray. In the plain room the lamp's light is baked in; under an
+// environment map the texels are the wood's albedo as code values, lit by fake_camera.cpp.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +16,8 @@ public:
     static constexpr int kResolution = 2048; // texels per side: 0.59 mm each
     static constexpr float kTexelsPerMetre = float(kResolution) / (2.0f * fake_scene::kTableHalfSize);
 
-    explicit TableTexture(uint64_t seed);
+    // `lamp`: bake in fake_scene::tableLighting (the plain room), else the bare albedo.
+    explicit TableTexture(uint64_t seed, bool lamp = true);
 
     // The texel under table point (x, y), |x|, |y| <= kTableHalfSize (sRGB code values).
     [[nodiscard]] fake_scene::PackedRgb at(float x, float y) const

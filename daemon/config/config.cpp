@@ -9,6 +9,8 @@
 #include <iterator>
 #include <set>
 
+#include <stb_image.h>
+
 #include "config/material_sidecar.h"
 #include "config/toml_reader.h"
 #include "core/error.h"
@@ -92,6 +94,62 @@ void readCameraControls(TableReader& camera, CameraControlsConfig& controls)
     r.finish();
 }
 
+// A texture must be an image stb can read (its header is checked here, the pixels when the
+// fake camera starts).
+void checkTextureFile(TableReader& r, const std::filesystem::path& file)
+{
+    constexpr int kMaxTextureSide = 16384;
+    int width = 0, height = 0, components = 0;
+    if (!stbi_info(file.c_str(), &width, &height, &components)) {
+        const char* reason = stbi_failure_reason();
+        r.fail(r.node("texture"), "texture",
+               file.string() + ": cannot read: " + (reason ? reason : "not a PNG or JPEG image"));
+    }
+    if (width > kMaxTextureSide || height > kMaxTextureSide)
+        r.fail(r.node("texture"), "texture",
+               file.string() + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                   " is larger than 16384 pixels a side");
+}
+
+// [[camera.fake_objects]], after the fake tags they stand on.
+void readFakeObjects(TableReader& camera, CameraConfig& config, const Context& ctx)
+{
+    forEachTable(camera, "fake_objects", [&](TableReader& t, const toml::node* node) {
+        FakeObjectConfig object;
+        t.oneOf("shape", object.shape, {"box", "cylinder"});
+        if (!t.has("tag"))
+            t.failMissing("tag");
+        t.integer("tag", object.tag, 0, kTag36h11Codes - 1);
+        bool known = false;
+        for (const FakeTagConfig& tag : config.fakeTags)
+            known = known || tag.id == object.tag;
+        if (!known)
+            t.fail(t.node("tag"), "tag", "tag " + std::to_string(object.tag) + " is not in camera.fake_tags");
+        if (!t.has("size"))
+            t.failMissing("size");
+        t.vec3("size", object.size);
+        for (int i = 0; i < 3; ++i)
+            if (!(object.size[i] > 0.0 && object.size[i] <= 2.0))
+                t.fail(t.node("size"), "size", "each side must be in (0, 2] metres");
+        if (object.shape == "cylinder" && object.size.x != object.size.y)
+            t.fail(t.node("size"), "size", "a cylinder's x and y are its diameter and must be equal");
+        t.vec2("offset", object.offset, 2.0);
+        t.number("heading", object.headingDeg, -360.0, 360.0);
+        if (t.has("color") && t.has("texture"))
+            t.fail(t.node("texture"), "texture", "give either color or texture, not both");
+        if (!t.has("color") && !t.has("texture"))
+            t.fail(node, "color", "missing: give color (linear albedo) or texture (an image)");
+        t.vec3("color", object.color);
+        for (int c = 0; c < 3; ++c)
+            if (!(object.color[c] >= 0.0 && object.color[c] <= 1.0))
+                t.fail(t.node("color"), "color", "each channel must be in [0, 1]");
+        t.path("texture", object.texture, ctx.baseDir, Expect::File);
+        if (!object.texture.empty())
+            checkTextureFile(t, object.texture);
+        config.fakeObjects.push_back(object);
+    });
+}
+
 void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
 {
     const toml::table* table = root.table("camera");
@@ -137,6 +195,8 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
             camera.fakeTags.push_back(tag);
         });
     }
+    readFakeObjects(r, camera, ctx);
+    r.number("exposure", camera.exposure, 0.0, 1e6, true);
     r.finish();
 }
 
@@ -503,6 +563,10 @@ Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
     readEnvironment(r, config.environment, ctx);
     readLights(r, config.lights);
     readShadows(r, config.shadows);
+    if (config.camera.source == "fake") {
+        config.camera.fakeEnvironment = config.environment.hdr;
+        config.camera.fakeEnvironmentIntensity = config.environment.intensity;
+    }
     readRendering(r, config.rendering, ctx);
     readOutput(r, config.output, ctx);
     r.finish();

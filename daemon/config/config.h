@@ -25,6 +25,20 @@ struct FakeTagConfig {
     bool operator==(const FakeTagConfig&) const = default;
 };
 
+// [[camera.fake_objects]]: a real object standing on the fake camera's table, placed in a
+// fake tag's frame (the world frame moved to the tag's centre). The camera draws it, shaded by
+// the environment, and bakes its shadow into the table (capture/fake_objects.h).
+struct FakeObjectConfig {
+    std::string shape = "box";     // "box" | "cylinder" (upright)
+    int tag = 0;                   // the fake tag whose frame it stands in
+    glm::dvec3 size{0.1};          // metres along x, y, z; a cylinder: diameter x = y, height z
+    glm::dvec2 offset{0.0};        // its footprint's centre from the tag's centre, metres
+    double headingDeg = 0.0;       // degrees about z, counter-clockwise seen from above
+    glm::dvec3 color{0.5};         // linear albedo, each in [0, 1]; unused with a texture
+    std::filesystem::path texture; // PNG or JPEG (sRGB) mapped over each face, instead of color
+    bool operator==(const FakeObjectConfig&) const = default;
+};
+
 // [camera.controls]: camera controls applied when the camera opens (V4L2 controls, or
 // libcamera's: capture/libcamera/libcamera_controls.h). A key left out leaves the camera's own
 // setting alone.
@@ -61,6 +75,13 @@ struct CameraConfig {
     uint64_t seed = 1;
     double noiseSigma = 2.0; // sensor noise, code values
     std::vector<FakeTagConfig> fakeTags{FakeTagConfig{}};
+    std::vector<FakeObjectConfig> fakeObjects;
+    double exposure = 1.0; // code = 255 sRGB(clamp(exposure * linear radiance)); > 0
+    // What surrounds the fake table: [environment]'s hdr and intensity, copied here when the
+    // source is fake so the camera shows the world the virtual objects are lit by; empty: the
+    // plain room of old.
+    std::filesystem::path fakeEnvironment;
+    double fakeEnvironmentIntensity = 1.0;
     // A reload compares the running configuration with the new one part by part, to keep
     // what did not change (the camera, the GL context).
     bool operator==(const CameraConfig&) const = default;

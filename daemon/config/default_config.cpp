@@ -22,11 +22,20 @@ loop = true
 calibration = "calibration/fake_camera_1280x720.yaml"
 seed = 1
 noise = 2.0
+exposure = 1.0
 
 [[camera.fake_tags]]
 id = 0
 size = 0.16
 position = [0.0, 0.0]
+
+[[camera.fake_objects]]
+shape = "box"
+tag = 0
+size = [0.08, 0.08, 0.1]
+offset = [0.0, 0.2]
+heading = 20.0
+color = [0.6, 0.12, 0.06]
 
 [tracking]
 family = "tag36h11"

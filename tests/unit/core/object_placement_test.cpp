@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "core/environment_frame.h"
 #include "object_placement.h"
 
 namespace lumar {

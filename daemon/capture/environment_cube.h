@@ -1,0 +1,83 @@
+// The fake camera's surroundings: the configured equirectangular .hdr at infinity, turned into
+// the world frame as the renderer turns it (core/environment_frame.h) and resampled into a
+// cube map of packed code values, so a ray that misses the table costs one branch-free index
+// computation (the ray loops vectorize it) and one load.
+//
+// The cube is the world's own: face 2a + s looks along world axis a (x, y, z), s = 0 for the
+// positive and 1 for the negative direction; within a face, column i and row j cover the
+// other two coordinates (in x, y, z order) divided by the major one, over [-1, 1].
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "capture/fake_scene_shading.h"
+#include "capture/packed_buffer.h"
+#include "capture/srgb_encoding.h"
+#include "core/image.h"
+
+namespace lumar {
+
+class EnvironmentCube {
+public:
+    static constexpr int kMinLog2Size = 6;
+    static constexpr int kMaxLog2Size = 10;
+
+    // The face size for a camera of focal length `fx` pixels: the power of two at or above fx,
+    // so a texel at a face's centre (2/size rad) spans at most about two pixels (2/fx rad);
+    // 1024 for 1280x720 (0.11° texels, a third of the 1k map's 0.35°). Log2, in
+    // [kMinLog2Size, kMaxLog2Size].
+    static int log2SizeFor(double fx);
+
+    // `equirect`: linear radiance, 3 channels, intensity applied (environment_map.h's layout);
+    // faces of 2^log2Size texels a side.
+    EnvironmentCube(ImageF equirect, int log2Size);
+
+    [[nodiscard]] int log2Size() const { return log2Size_; }
+
+    // The cube's texels as code values at `exposure` (linear radiance × exposure, encoded).
+    [[nodiscard]] PackedBuffer bake(float exposure, const SrgbEncoder& encoder) const;
+
+    // The linear radiance the cube stores towards world direction `d` (any length): the map
+    // sampled bilinearly there.
+    [[nodiscard]] glm::vec3 radiance(const glm::vec3& d) const;
+
+    // The texel towards world direction (dx, dy, dz), not all zero, in a cube of faces
+    // 2^log2Size a side. Branch-free, so the ray loops vectorize it.
+    [[gnu::always_inline]] static inline int32_t index(float dx, float dy, float dz, int log2Size)
+    {
+        const float ax = std::abs(dx);
+        const float ay = std::abs(dy);
+        const float az = std::abs(dz);
+        const bool xMajor = (ax >= ay) & (ax >= az);
+        const bool yMajor = !xMajor & (ay >= az);
+        const bool zMajor = !xMajor & !yMajor;
+        const float major = xMajor ? dx : (yMajor ? dy : dz);
+        const float first = xMajor ? dy : dx;
+        const float second = zMajor ? dy : dz;
+        // |first|, |second| <= |major|, so both coordinates land in [0, kSize]; the top edge
+        // belongs to the last texel.
+        const float size = float(1 << log2Size);
+        const float half = 0.5f * size;
+        const float last = size - 0.5f;
+        const float scale = half / std::abs(major);
+        const int32_t i = int32_t(std::min(first * scale + half, last));
+        const int32_t j = int32_t(std::min(second * scale + half, last));
+        const int32_t face = (xMajor ? 0 : (yMajor ? 2 : 4)) + (major < 0.0f ? 1 : 0);
+        return (face << (2 * log2Size)) | (j << log2Size) | i;
+    }
+
+private:
+    void bakeFace(int face, float exposure, const SrgbEncoder& encoder, fake_scene::PackedRgb* texels) const;
+
+    ImageF equirect_;
+    int log2Size_;
+    int size_;
+    glm::mat3 environmentFromWorld_;
+};
+
+} // namespace lumar
