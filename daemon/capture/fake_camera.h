@@ -10,7 +10,9 @@
 // the world the renderer lights virtual objects with: the map at infinity around the table,
 // the table and its tags lit by the map's irradiance, and real objects standing on it
 // (CameraConfig::fakeObjects) that are shaded by it and shadow the table. Linear radiance L
-// becomes code values as 255 · sRGB(clamp(exposure · L, 0, 1)). Without a map: a plain room.
+// becomes code values as 255 · sRGB(clamp(exposure · L, 0, 1)). Without a map: a plain room
+// (its code values read as sRGB for the exposure), where objects are lit from above by its
+// lamp and cast no shadow.
 #pragma once
 
 #include <memory>

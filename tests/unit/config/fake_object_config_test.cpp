@@ -78,6 +78,11 @@ TEST_F(FakeObjectConfigTest, ShippedDefaultStandsABoxBesideTagZero)
     const double clearance =
         std::max(std::abs(box.offset.x) - 0.5 * box.size.x, std::abs(box.offset.y) - 0.5 * box.size.y);
     EXPECT_GT(clearance, 0.1);
+    // The documented example says the same.
+    const Config example = loadConfig(fs::path(LUMAR_SOURCE_DIR) / "daemon/assets/lumar.toml");
+    EXPECT_EQ(example.camera.fakeObjects, c.camera.fakeObjects);
+    EXPECT_EQ(example.camera.exposure, c.camera.exposure);
+    EXPECT_EQ(fs::weakly_canonical(example.camera.fakeEnvironment), fs::weakly_canonical(c.camera.fakeEnvironment));
 }
 
 TEST_F(FakeObjectConfigTest, RejectsBadObjects)
