@@ -16,6 +16,7 @@
 #include "gles_renderer/assets/material_overrides.h"
 #include "gles_renderer/gl/gl_probe.h"
 #include "object_placement.h"
+#include "phantom_model.h"
 #include "tracking/calibration_io.h"
 
 namespace lumar {
@@ -208,6 +209,7 @@ RenderOptions renderOptionsFor(const Config& config)
     maps.everyK = rendering.environmentMapEvery;
     maps.budgetMs = rendering.environmentMapBudgetMs;
     maps.ibl.mirrorSize = rendering.environmentMapSize;
+    maps.phantomsShowCamera = rendering.phantomsShowCamera;
     return options;
 }
 
@@ -250,17 +252,11 @@ void Pipeline::placeScene(const std::vector<GltfModel>& models)
                                                     : "map '" + object.map + "'");
     }
     for (const PhantomConfig& phantom : config_.phantoms) {
-        GltfModel box = makeCube();
-        GltfMaterial& material = box.materials[0];
-        material.name = phantom.name;
-        material.baseColorFactor = glm::vec4(glm::vec3(phantom.color), 1.0f);
-        material.metallicFactor = 0.0f;
-        material.roughnessFactor = 1.0f;
+        const PhantomModel shape = makePhantomModel(phantom);
         PlacedObject placed;
-        placed.model = renderer_->addModel(box);
+        placed.model = renderer_->addModel(shape.model);
         placed.marker = phantom.marker;
-        placed.markerFromModel =
-            glm::translate(glm::dmat4(1.0), phantom.offset) * glm::scale(glm::dmat4(1.0), phantom.size);
+        placed.markerFromModel = shape.markerFromModel;
         phantoms_.push_back(placed);
     }
     drawItems_.reserve(objects_.size() + phantoms_.size());

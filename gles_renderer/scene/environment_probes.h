@@ -25,7 +25,8 @@ public:
 
     // Brings the maps up to date for this frame and returns, per item, the maps that shade
     // it (valid until the next call). Rebuilds the real environment's own maps when it
-    // changed. `camera`: this frame's camera image, where the maps may show it. Leaves the GL
+    // changed. `camera`: this frame's camera image, which phantoms carry in the maps where it
+    // and the phantoms' depth (CameraView::phantomDepth) are given. Leaves the GL
     // framebuffer binding and viewport changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                            const EnvironmentLighting& environment, const MeshPass& meshes,
@@ -48,7 +49,8 @@ private:
     // Which items get new maps this frame (indices into items).
     void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                     const EnvironmentLighting& environment, const MeshPass& meshes, bool profile, RenderStats& stats);
+                     const EnvironmentLighting& environment, const MeshPass& meshes, const CameraView& camera,
+                     bool profile, RenderStats& stats);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;
@@ -68,8 +70,9 @@ private:
     // the centre or the environment changes; each update then draws it into depth only
     // (it still hides the neighbours behind it) instead of shading thousands of texels.
     // The layer is drawn once the phantoms have stood still for two updates: phantoms that
-    // keep moving relative to the object are shaded into its map directly, as before. (Were
-    // phantoms ever textured with the camera image, the layer would be stale every frame.)
+    // keep moving relative to the object are shaded into its map directly, as before.
+    // Only for phantoms in their configured colour: phantoms that carry the camera image
+    // (phantom.frag) change with every frame, so they are always drawn directly.
     struct PhantomLayer {
         IblMaps maps; // only the mirror map is used
         bool drawn = false;

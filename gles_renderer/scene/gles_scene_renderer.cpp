@@ -21,6 +21,7 @@
 #include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/phantom_depth.h"
 #include "gles_renderer/scene/scene_renderer.h"
 
 namespace lumar {
@@ -58,6 +59,7 @@ public:
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
+          cameraPhantoms_(options.environmentMaps.dynamic && options.environmentMaps.phantomsShowCamera),
           profile_(options.profile)
     {
         checkGlError("creating the scene renderer");
@@ -188,6 +190,11 @@ private:
         if (needsCameraImage(items)) {
             cameraImage_.capture(target_);
             camera = {cameraImage_.texture(), frame_.clipFromCamera};
+            camera.exposure = exposure_;
+            if (cameraPhantoms_) {
+                phantomDepth_.render(meshes_, models_, items, frame_.clipFromCamera);
+                camera.phantomDepth = phantomDepth_.texture();
+            }
         }
 
         const std::span<const IblMaps* const> maps =
@@ -212,9 +219,10 @@ private:
     }
 
     // Whether this frame's passes look at the camera image from elsewhere.
-    static bool needsCameraImage(std::span<const DrawItem> items)
+    [[nodiscard]] bool needsCameraImage(std::span<const DrawItem> items) const
     {
-        return std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
+        return cameraPhantoms_ &&
+               std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
     }
 
     // Declared first so it is destroyed last: every GL object below needs it.
@@ -228,9 +236,11 @@ private:
     EnvironmentLighting environment_;
     FrameReadback readback_;
     CameraImage cameraImage_{width_, height_};
+    PhantomDepth phantomDepth_{cameraImage_.width(), cameraImage_.height()};
     float exposure_ = 1.0f;
     std::vector<GpuModel> models_;
     EnvironmentProbes probes_;
+    bool cameraPhantoms_; // phantoms carry the camera image in the environment maps
     bool profile_;
     RenderStats stats_;
     FrameUniforms frame_;
