@@ -19,6 +19,7 @@
 #include "gles_renderer/gl/gl_probe.h"
 #include "ground_plane.h"
 #include "object_placement.h"
+#include "phantom_model.h"
 #include "tracking/calibration_io.h"
 
 namespace lumar {
@@ -224,6 +225,7 @@ RenderOptions renderOptionsFor(const Config& config)
     options.shadows.enabled = config.shadows.enabled;
     options.shadows.mapSize = config.shadows.mapSize;
     options.shadows.softness = float(config.shadows.softness);
+    maps.phantomsShowCamera = rendering.phantomsShowCamera;
     return options;
 }
 
@@ -288,17 +290,11 @@ void Pipeline::placeScene(const std::vector<GltfModel>& models)
                                                     : "map '" + object.map + "'");
     }
     for (const PhantomConfig& phantom : config_.phantoms) {
-        GltfModel box = makeCube();
-        GltfMaterial& material = box.materials[0];
-        material.name = phantom.name;
-        material.baseColorFactor = glm::vec4(glm::vec3(phantom.color), 1.0f);
-        material.metallicFactor = 0.0f;
-        material.roughnessFactor = 1.0f;
+        const PhantomModel shape = makePhantomModel(phantom);
         PlacedObject placed;
-        placed.model = renderer_->addModel(box);
+        placed.model = renderer_->addModel(shape.model);
         placed.marker = phantom.marker;
-        placed.markerFromModel =
-            glm::translate(glm::dmat4(1.0), phantom.offset) * glm::scale(glm::dmat4(1.0), phantom.size);
+        placed.markerFromModel = shape.markerFromModel;
         phantoms_.push_back(placed);
     }
     placeGrounds(models);

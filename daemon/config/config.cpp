@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "gles_renderer/assets/lafortune_material.h"
 
 namespace lumar {
@@ -365,7 +366,71 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
     });
 }
 
-void readPhantoms(TableReader& root, std::vector<PhantomConfig>& phantoms, const std::vector<MarkerConfig>& markers)
+// A phantom's `size`: three sides, two for a plane (a third is accepted and unused), or the
+// longest side of a mesh.
+void readPhantomSize(TableReader& r, const toml::node* table, PhantomConfig& phantom)
+{
+    const toml::node* node = r.node("size");
+    if (phantom.shape == "mesh") {
+        double longest = 0.0;
+        r.number("size", longest, 0.0, 100.0, true);
+        phantom.size = glm::dvec3(longest);
+        return;
+    }
+    if (!node)
+        r.failMissing("size");
+    const toml::array* array = node->as_array();
+    if (phantom.shape == "plane" && array && array->size() == 2) {
+        glm::dvec2 sides(0.0);
+        r.vec2("size", sides, 100.0);
+        phantom.size = glm::dvec3(sides, 1.0);
+    } else {
+        r.vec3("size", phantom.size);
+    }
+    const bool flat = phantom.shape == "plane"; // its z is unused
+    if (!(phantom.size.x > 0 && phantom.size.y > 0 && (flat || phantom.size.z > 0) && phantom.size.x < 100 &&
+          phantom.size.y < 100 && phantom.size.z < 100))
+        r.fail(table, "size", "each side must be in (0, 100) metres");
+}
+
+// A mesh phantom's model: read now, so a missing or broken file is reported against the key
+// that names it (by `lumar check-config` and on reload, which then keeps the last good scene).
+void readPhantomModel(TableReader& r, PhantomConfig& phantom, const Context& ctx)
+{
+    const toml::node* node = r.node("model");
+    if (phantom.shape != "mesh") {
+        if (node)
+            r.fail(node, "model", "only a phantom with shape = \"mesh\" has a model");
+        return;
+    }
+    if (!node)
+        r.failMissing("model");
+    std::string model;
+    r.string("model", model);
+    try {
+        if (model.starts_with(kBuiltinModelPrefix)) {
+            if (!isBuiltinShape(model.substr(kBuiltinModelPrefix.size())))
+                r.fail(node, "model", "'" + model + "' is not a built-in shape (builtin:sphere, builtin:cube)");
+            phantom.model = model;
+            phantom.mesh =
+                std::make_shared<const GltfModel>(makeBuiltinShape(model.substr(kBuiltinModelPrefix.size())));
+            return;
+        }
+        r.path("model", phantom.model, ctx.baseDir, Expect::File);
+        const auto extension = phantom.model.extension();
+        if (extension != ".gltf" && extension != ".glb")
+            r.fail(node, "model", phantom.model.string() + ": expected a .gltf or .glb file");
+        phantom.mesh = std::make_shared<const GltfModel>(loadGltfModel(phantom.model));
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        if (what.starts_with(ctx.fileName + ":"))
+            throw;                   // already this file's line and key
+        r.fail(node, "model", what); // the glTF loader's "FILE: what is wrong"
+    }
+}
+
+void readPhantoms(TableReader& root, std::vector<PhantomConfig>& phantoms, const std::vector<MarkerConfig>& markers,
+                  const Context& ctx)
 {
     std::set<std::string> names;
     forEachTable(root, "phantoms", [&](TableReader& r, const toml::node* node) {
@@ -382,13 +447,11 @@ void readPhantoms(TableReader& root, std::vector<PhantomConfig>& phantoms, const
             known = known || m.id == phantom.marker;
         if (!known)
             r.fail(node, "marker", "marker " + std::to_string(phantom.marker) + " is not listed in [[markers]]");
-        if (!r.has("size"))
-            r.failMissing("size");
-        r.vec3("size", phantom.size);
-        if (!(phantom.size.x > 0 && phantom.size.y > 0 && phantom.size.z > 0 && phantom.size.x < 100 &&
-              phantom.size.y < 100 && phantom.size.z < 100))
-            r.fail(node, "size", "each side must be in (0, 100) metres");
+        r.oneOf("shape", phantom.shape, {"box", "plane", "cylinder", "mesh"});
+        readPhantomSize(r, node, phantom);
+        readPhantomModel(r, phantom, ctx);
         r.vec3("offset", phantom.offset);
+        r.number("heading", phantom.headingDeg, -360.0, 360.0);
         r.vec3("color", phantom.color);
         for (int c = 0; c < 3; ++c)
             if (!(phantom.color[c] >= 0.0 && phantom.color[c] <= 1.0))
@@ -455,6 +518,7 @@ void readRendering(TableReader& root, RenderingConfig& rendering, const Context&
     r.integer("environment_map_every", rendering.environmentMapEvery, 1, 1000);
     r.number("environment_map_budget_ms", rendering.environmentMapBudgetMs, 0.0, 1000.0, true);
     r.integer("environment_map_size", rendering.environmentMapSize, 16, 256);
+    r.boolean("phantoms_show_camera", rendering.phantomsShowCamera);
     const int size = rendering.environmentMapSize;
     if ((size & (size - 1)) != 0)
         r.fail(table->get("environment_map_size"), "environment_map_size",
@@ -559,7 +623,7 @@ Config parseConfig(std::string_view text, const std::filesystem::path& fileName,
     readMarkers(r, config.markers);
     readMaps(r, config.maps, config.markers, config.tracking.family);
     readObjects(r, config.objects, config.markers, config.maps, ctx);
-    readPhantoms(r, config.phantoms, config.markers);
+    readPhantoms(r, config.phantoms, config.markers, ctx);
     readEnvironment(r, config.environment, ctx);
     readLights(r, config.lights);
     readShadows(r, config.shadows);

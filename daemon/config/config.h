@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,7 @@
 #include <glm/glm.hpp>
 
 #include "config/board_profile.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "gles_renderer/assets/material_overrides.h"
 
 namespace lumar {
@@ -149,14 +151,26 @@ struct EnvironmentConfig {
     bool operator==(const EnvironmentConfig&) const = default;
 };
 
-// A proxy of a real object (DESIGN.md §6.5): a box placed on a marker. It hides virtual
-// objects behind it and appears, plainly coloured, in their environment maps.
+// A proxy of a real object (DESIGN.md §6.5): a shape placed on a marker. It hides virtual
+// objects behind it and appears in their environment maps carrying the camera image where
+// the camera sees it, in its colour elsewhere.
 struct PhantomConfig {
     std::string name;
     int marker = 0;
-    glm::dvec3 size{0.1};   // metres along the marker's x, y, z (z out of the tag)
-    glm::dvec3 offset{0.0}; // the box centre in the marker frame, metres
-    glm::dvec3 color{0.5};  // linear diffuse albedo, each in [0, 1]
+    // box (default), plane (in the marker plane), cylinder (axis along the marker's normal)
+    // or mesh (a glTF model, stood on the marker like an object: app/object_placement.h).
+    std::string shape = "box";
+    // Metres. box: along the marker's x, y, z (z out of the tag); plane: x, y (z unused);
+    // cylinder: the diameters along x and y, the height along z; mesh: x = the longest side
+    // (`size = 0.3` in the file; 0: as authored).
+    glm::dvec3 size{0.1};
+    // Metres, marker frame: the centre of a box, plane or cylinder; a mesh's offset as an
+    // object's (its footprint centre, its lowest point on the plane z = offset.z).
+    glm::dvec3 offset{0.0};
+    double headingDeg = 0.0;               // degrees about the marker's normal, counter-clockwise from above
+    std::filesystem::path model;           // mesh: .gltf or .glb, or "builtin:sphere" / "builtin:cube"
+    std::shared_ptr<const GltfModel> mesh; // mesh: the model, read with the configuration
+    glm::dvec3 color{0.5};                 // linear diffuse albedo, each in [0, 1]
 };
 
 // [[lights]]: the dominant light, when the real environment's own (derived from its SH,
@@ -191,6 +205,7 @@ struct RenderingConfig {
     int environmentMapEvery = 2;          // every_k: each object every k-th frame
     double environmentMapBudgetMs = 8.0;  // budget: milliseconds per frame
     int environmentMapSize = 64;          // px per cube face, a power of two 16..256
+    bool phantomsShowCamera = true;       // phantoms carry the camera image in the maps
     bool operator==(const RenderingConfig&) const = default;
 };
 

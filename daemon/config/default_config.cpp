@@ -74,6 +74,7 @@ environment_maps = "auto"
 environment_map_every = 2
 environment_map_budget_ms = 8.0
 environment_map_size = 64
+phantoms_show_camera = true
 
 [output]
 sink = "headless"

@@ -24,4 +24,12 @@ GltfModel makeUvSphere(int segments, int rings);
 // An axis-aligned cube of side 1, 24 vertices (flat faces).
 GltfModel makeCube();
 
+// A unit square in the plane y = 0 (x and z in [-0.5, 0.5]) facing +Y (glTF up), double-sided:
+// a table top seen from above or below.
+GltfModel makePlane();
+
+// A closed cylinder of unit diameter and unit height, its axis along +Y (glTF up) from
+// y = -0.5 to 0.5: `segments` around with smooth normals on the side, flat caps.
+GltfModel makeCylinder(int segments = 48);
+
 } // namespace lumar

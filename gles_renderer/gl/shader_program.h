@@ -19,6 +19,7 @@ inline constexpr ProgramSources kBackgroundProgram{"fullscreen.vert", "backgroun
 inline constexpr ProgramSources kBackgroundYcbcrProgram{"fullscreen.vert", "background_ycbcr.frag"};
 inline constexpr ProgramSources kMeshProgram{"mesh.vert", "mesh.frag"};
 inline constexpr ProgramSources kDepthOnlyProgram{"depth_only.vert", "depth_only.frag"};
+inline constexpr ProgramSources kPhantomProgram{"mesh.vert", "phantom.frag"};
 inline constexpr ProgramSources kSkyboxProgram{"cube_face.vert", "skybox.frag"};
 inline constexpr ProgramSources kShProjectProgram{"fullscreen.vert", "sh_project_cube.frag"};
 inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh_project_equirect.frag"};
@@ -26,10 +27,10 @@ inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.f
 inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
 inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
 inline constexpr ProgramSources kPhantomReceiverProgram{"phantom_receiver.vert", "phantom_receiver.frag"};
-inline constexpr std::array<ProgramSources, 11> kAllPrograms{
+inline constexpr std::array<ProgramSources, 12> kAllPrograms{
     kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,   kMeshProgram,
     kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram, kShReduceProgram,
-    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram};
+    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,   kPhantomProgram};
 
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the

@@ -20,6 +20,10 @@ namespace lumar {
 struct CameraView {
     GLuint texture = 0; // 0: no camera image this frame
     glm::mat4 clipFromCamera{1.0f};
+    // The phantoms' depth as the camera sees them (PhantomDepth), 0 when not drawn; and the
+    // exposure the frame applies (SceneRenderer::setExposure): radiance = linear value / it.
+    GLuint phantomDepth = 0;
+    float exposure = 1.0f;
 };
 
 class CameraImage {

@@ -186,7 +186,8 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const Env
 
 void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                     const EnvironmentLighting& environment, const MeshPass& meshes,
-                                    const ShadowPass& shadows, bool profile, RenderStats& stats)
+                                    const ShadowPass& shadows, const CameraView& camera, bool profile,
+                                    RenderStats& stats)
 {
     IblMaps& maps = probes_[items[owner].object];
     if (!maps.mirror)
@@ -198,12 +199,22 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
     const int size = pipeline_.settings().mirrorSize;
     const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
 
+    // Phantoms carry the camera image (phantom.frag) when the frame has one and the phantoms'
+    // depth as the camera saw them.
+    const bool cameraPhantoms = camera.texture != 0 && camera.phantomDepth != 0;
+    MeshPass::PhantomCamera phantomCamera;
+    phantomCamera.clipFromFrameCamera = camera.clipFromCamera;
+    phantomCamera.exposure = camera.exposure;
+    phantomCamera.image = camera.texture;
+    phantomCamera.depth = camera.phantomDepth;
+
     // Draws the items (all but the owner, or the phantoms alone) into face `face`, the
     // phantoms shaded or into depth alone (MeshPass::Phantoms).
     const auto drawFace = [&](int face, bool phantomsOnly, MeshPass::Phantoms phantoms) {
         const glm::dmat3 faceFromCube = faceCameraFromCube(face);
         const glm::dmat4 faceFromCamera =
             glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
+        phantomCamera.frameCameraFromView = glm::mat4(glm::inverse(faceFromCamera));
         // Only what the face's 90-degree frustum can see: each neighbour usually shows in
         // one or two faces of six.
         faceItems_.clear();
@@ -229,7 +240,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
         shadows.fillView(frame, glm::inverse(faceFromCamera));
         meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy,
-                    faceIntrinsics(size).fx);
+                    faceIntrinsics(size).fx, cameraPhantoms ? &phantomCamera : nullptr);
     };
 
     auto start = Clock::now();
@@ -241,7 +252,9 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
         if (item.phantom)
             phantomScene_.emplace_back(item.model, environmentFromCentre * item.cameraFromModel);
     const IblMaps* backdrop = &environmentMaps_;
-    if (!phantomScene_.empty()) {
+    if (cameraPhantoms) // the camera image changes every frame: a layer would be stale at once
+        phantomLayers_.erase(items[owner].object);
+    else if (!phantomScene_.empty()) {
         PhantomLayer& layer = phantomLayers_[items[owner].object];
         if (!samePhantoms(layer.phantoms, phantomScene_)) {
             layer.phantoms = phantomScene_;
@@ -279,10 +292,8 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
                                                           std::span<const DrawItem> items,
                                                           const EnvironmentLighting& environment,
                                                           const MeshPass& meshes, const ShadowPass& shadows,
-                                                          const CameraView& camera,
-                                                          bool profile, RenderStats& stats)
+                                                          const CameraView& camera, bool profile, RenderStats& stats)
 {
-    static_cast<void>(camera); // phantoms textured with it: next step of issue 15
     if (environment.generation() != environmentGeneration_)
         rebuildEnvironmentMaps(environment);
 
@@ -297,7 +308,7 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
         for (const size_t i : updates_) {
             const auto start = Clock::now();
-            renderProbe(i, models, items, environment, meshes, shadows, profile || timeProbes, stats);
+            renderProbe(i, models, items, environment, meshes, shadows, camera, profile || timeProbes, stats);
             if (timeProbes) {
                 const double cost = millisecondsSince(start);
                 probeCostMs_ = probeCostMs_ > 0.0 ? 0.8 * probeCostMs_ + 0.2 * cost : cost;

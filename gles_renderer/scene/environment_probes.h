@@ -27,8 +27,9 @@ public:
     // Brings the maps up to date for this frame and returns, per item, the maps that shade
     // it (valid until the next call). Rebuilds the real environment's own maps when it
     // changed. `shadows` gives each face its view of this frame's shadow map; `camera`: this
-    // frame's camera image, where the maps may show it. Leaves the GL framebuffer binding and
-    // viewport changed.
+    // frame's camera image, which phantoms carry in the maps where it and the phantoms' depth
+    // (CameraView::phantomDepth) are given. Leaves the GL framebuffer binding and viewport
+    // changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                            const EnvironmentLighting& environment, const MeshPass& meshes,
                                            const ShadowPass& shadows, const CameraView& camera, bool profile,
@@ -52,7 +53,7 @@ private:
     void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                      const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
-                     bool profile, RenderStats& stats);
+                     const CameraView& camera, bool profile, RenderStats& stats);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;
@@ -72,11 +73,12 @@ private:
     // the centre or the environment changes; each update then draws it into depth only
     // (it still hides the neighbours behind it) instead of shading thousands of texels.
     // The layer is drawn once the phantoms have stood still for two updates: phantoms that
-    // keep moving relative to the object are shaded into its map directly, as before. (Were
-    // phantoms ever textured with the camera image, the layer would be stale every frame.
+    // keep moving relative to the object are shaded into its map directly, as before.
+    // Only for phantoms in their configured colour: phantoms that carry the camera image
+    // (phantom.frag) change with every frame, so they are always drawn directly.
     // The virtual objects' shadows on the phantoms are in the layer as they were when it was
     // drawn: objects standing on the phantoms' marker keep them; others moving over them
-    // leave them stale until a phantom moves.)
+    // leave them stale until a phantom moves.
     struct PhantomLayer {
         IblMaps maps; // only the mirror map is used
         bool drawn = false;

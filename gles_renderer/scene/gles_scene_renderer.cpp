@@ -21,6 +21,7 @@
 #include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/phantom_depth.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/scene/shadow_pass.h"
 
@@ -59,7 +60,9 @@ public:
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
-          shadows_(options.shadows), profile_(options.profile)
+          shadows_(options.shadows),
+          cameraPhantoms_(options.environmentMaps.dynamic && options.environmentMaps.phantomsShowCamera),
+          profile_(options.profile)
     {
         meshes_.setShadowMap(shadows_.map());
         checkGlError("creating the scene renderer");
@@ -193,6 +196,11 @@ private:
         if (needsCameraImage(items)) {
             cameraImage_.capture(target_);
             camera = {cameraImage_.texture(), frame_.clipFromCamera};
+            camera.exposure = exposure_;
+            if (cameraPhantoms_) {
+                phantomDepth_.render(meshes_, models_, items, frame_.clipFromCamera);
+                camera.phantomDepth = phantomDepth_.texture();
+            }
         }
 
         const std::span<const IblMaps* const> maps =
@@ -220,9 +228,10 @@ private:
     }
 
     // Whether this frame's passes look at the camera image from elsewhere.
-    static bool needsCameraImage(std::span<const DrawItem> items)
+    [[nodiscard]] bool needsCameraImage(std::span<const DrawItem> items) const
     {
-        return std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
+        return cameraPhantoms_ && std::any_of(items.begin(), items.end(),
+                                              [](const DrawItem& item) { return item.phantom && !item.receiverOnly; });
     }
 
     // Declared first so it is destroyed last: every GL object below needs it.
@@ -236,10 +245,12 @@ private:
     EnvironmentLighting environment_;
     FrameReadback readback_;
     CameraImage cameraImage_{width_, height_};
+    PhantomDepth phantomDepth_{cameraImage_.width(), cameraImage_.height()};
     float exposure_ = 1.0f;
     std::vector<GpuModel> models_;
     EnvironmentProbes probes_;
     ShadowPass shadows_;
+    bool cameraPhantoms_; // phantoms carry the camera image in the environment maps
     bool profile_;
     RenderStats stats_;
     FrameUniforms frame_;

@@ -75,7 +75,14 @@ private:
 
 MeshPass::MeshPass()
     : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
-      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")), depthOnly_(linkProgram(kDepthOnlyProgram)),
+      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")),
+      phantomProgram_(linkProgram(kPhantomProgram)),
+      phantomCameraFromMeshLocation_(uniformLocation(phantomProgram_, "uCameraFromMesh")),
+      phantomNormalFromMeshLocation_(uniformLocation(phantomProgram_, "uNormalFromMesh")),
+      phantomFrameCameraFromViewLocation_(uniformLocation(phantomProgram_, "uFrameCameraFromView")),
+      phantomClipFromFrameCameraLocation_(uniformLocation(phantomProgram_, "uClipFromFrameCamera")),
+      phantomInverseExposureLocation_(uniformLocation(phantomProgram_, "uInverseExposure")),
+      depthOnly_(linkProgram(kDepthOnlyProgram)),
       depthOnlyCameraFromMeshLocation_(uniformLocation(depthOnly_, "uCameraFromMesh")),
       frameUniforms_(GlBuffer::create())
 {
@@ -95,6 +102,15 @@ MeshPass::MeshPass()
     glUniform1i(uniformLocation(program_, "uShadowMap"), GLint(kShadowMapUnit));
     bindUniformBlock(program_, "Frame", kFrameBlockBinding);
     bindUniformBlock(program_, "Material", kMaterialBlockBinding);
+    glUseProgram(phantomProgram_.name());
+    glUniform1i(uniformLocation(phantomProgram_, "uCameraImage"), GLint(kCameraImageUnit));
+    glUniform1i(uniformLocation(phantomProgram_, "uCameraDepth"), GLint(kCameraDepthUnit));
+    glUniform1i(uniformLocation(phantomProgram_, "uDiffuseMap"), GLint(kDiffuseMapUnit));
+    glUniform1i(uniformLocation(phantomProgram_, "uGlossy1Map"), GLint(kGlossy1MapUnit));
+    glUniform1i(uniformLocation(phantomProgram_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
+    glUniform1i(uniformLocation(phantomProgram_, "uMirrorMap"), GLint(kMirrorMapUnit));
+    bindUniformBlock(phantomProgram_, "Frame", kFrameBlockBinding);
+    bindUniformBlock(phantomProgram_, "Material", kMaterialBlockBinding);
 
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
@@ -103,7 +119,7 @@ MeshPass::MeshPass()
 
 void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                     std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail,
-                    double focalPixels) const
+                    double focalPixels, const PhantomCamera* camera) const
 {
     if (items.empty())
         return;
@@ -129,9 +145,14 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     // Nearest first: the depth test then rejects hidden fragments before they are shaded.
+    // Phantoms carrying the camera image come last, with their own program: they are mostly
+    // large surfaces behind and below the objects (a table), whose hidden texels the depth
+    // test then skips.
+    const bool cameraPhantoms = phantoms == Phantoms::Shaded && camera != nullptr;
     order_.clear();
     for (size_t i = 0; i < items.size(); ++i)
-        if (int(i) != skip && !items[i].receiverOnly && (phantoms == Phantoms::Shaded || !items[i].phantom))
+        if (int(i) != skip && !items[i].receiverOnly && (phantoms == Phantoms::Shaded || !items[i].phantom) &&
+            !(cameraPhantoms && items[i].phantom))
             order_.push_back({centreDepth(items[i], models), i});
     std::sort(order_.begin(), order_.end());
     StateCache state;
@@ -139,7 +160,33 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     for (const auto& [depth, i] : order_)
         drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail,
                  focalPixels);
+    if (cameraPhantoms)
+        drawCameraPhantoms(*camera, models, items, maps, skip, state, detail, focalPixels);
     glBindVertexArray(0);
+}
+
+void MeshPass::drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
+                                  std::span<const DrawItem> items, std::span<const IblMaps* const> maps, int skip,
+                                  StateCache& state, Detail detail, double focalPixels) const
+{
+    bool bound = false;
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (int(i) == skip || !items[i].phantom || items[i].receiverOnly)
+            continue;
+        if (!bound) {
+            glUseProgram(phantomProgram_.name());
+            glUniformMatrix4fv(phantomFrameCameraFromViewLocation_, 1, GL_FALSE,
+                               glm::value_ptr(camera.frameCameraFromView));
+            glUniformMatrix4fv(phantomClipFromFrameCameraLocation_, 1, GL_FALSE,
+                               glm::value_ptr(camera.clipFromFrameCamera));
+            glUniform1f(phantomInverseExposureLocation_, 1.0f / camera.exposure);
+            state.bindTexture(kCameraImageUnit, camera.image);
+            state.bindTexture(kCameraDepthUnit, camera.depth);
+            bound = true;
+        }
+        drawItem(items[i], maps[i], models, state, phantomCameraFromMeshLocation_, phantomNormalFromMeshLocation_,
+                 detail, focalPixels);
+    }
 }
 
 double MeshPass::centreDepth(const DrawItem& item, const std::vector<GpuModel>& models)

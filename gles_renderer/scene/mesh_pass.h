@@ -31,6 +31,19 @@ public:
     static constexpr GLuint kGlossy2MapUnit = 9;
     static constexpr GLuint kMirrorMapUnit = 10;
     static constexpr GLuint kShadowMapUnit = 11; // the dominant light's (ShadowPass)
+    // phantom.frag's camera image and the phantoms' depth as the frame camera sees them.
+    static constexpr GLuint kCameraImageUnit = 12;
+    static constexpr GLuint kCameraDepthUnit = 13;
+
+    // How phantoms show the camera image in a view that is not the frame camera's (an
+    // environment map's cube face): phantom.frag projects each fragment into the image.
+    struct PhantomCamera {
+        glm::mat4 frameCameraFromView{1.0f}; // the view's camera frame to the frame camera's
+        glm::mat4 clipFromFrameCamera{1.0f}; // the frame camera's projection
+        float exposure = 1.0f;               // camera radiance = linear camera value / exposure
+        GLuint image = 0;                    // CameraImage::texture()
+        GLuint depth = 0;                    // PhantomDepth::texture()
+    };
 
     MeshPass();
 
@@ -41,6 +54,8 @@ public:
     // draws them first into depth alone (the frame: the camera image shows them); Skip leaves
     // them out (the frame with shadows: ShadowPass::drawReceivers drew them). Receiver-only
     // items (DrawItem::receiverOnly) are never drawn here.
+    // `camera` (with Phantoms::Shaded): phantoms are drawn by phantom.frag, carrying the
+    // camera image where the camera saw them, after the other items; null: by mesh.frag.
     // `detail`: Full meshes (the frame) or their simplified Proxy stand-ins (environment maps),
     // each item's level chosen by proxyLevelFor from its size in pixels: `focalPixels` is
     // the view's focal length in pixels (<= 0: unknown, the finest levels).
@@ -48,7 +63,7 @@ public:
     enum class Detail { Full, Proxy };
     void draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
               std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded,
-              Detail detail = Detail::Full, double focalPixels = 0.0) const;
+              Detail detail = Detail::Full, double focalPixels = 0.0, const PhantomCamera* camera = nullptr) const;
 
     // How many pixels the longest side of `item`'s model spans, seen at its bounding-box
     // centre's distance with focal length `focalPixels`; infinite where the camera is inside
@@ -64,6 +79,11 @@ private:
     void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
                   GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels) const;
 
+    // The phantoms among `items` with phantom.frag.
+    void drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
+                            std::span<const DrawItem> items, std::span<const IblMaps* const> maps, int skip,
+                            StateCache& state, Detail detail, double focalPixels) const;
+
     // Depth along the view of the item's bounding-box centre (draw order).
     static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
 
@@ -71,6 +91,12 @@ private:
     GlProgram program_;
     GLint cameraFromMeshLocation_;
     GLint normalFromMeshLocation_;
+    GlProgram phantomProgram_;
+    GLint phantomCameraFromMeshLocation_;
+    GLint phantomNormalFromMeshLocation_;
+    GLint phantomFrameCameraFromViewLocation_;
+    GLint phantomClipFromFrameCameraLocation_;
+    GLint phantomInverseExposureLocation_;
     GlProgram depthOnly_;
     GLint depthOnlyCameraFromMeshLocation_;
     GlBuffer frameUniforms_;

@@ -30,7 +30,7 @@ struct DrawItem {
     int object = -1;
     // A proxy of a real object (DESIGN.md §6.5): it writes depth in the frame (virtual
     // objects behind it are hidden, the camera image shows through) and is drawn, lit, in
-    // the environment maps (virtual objects reflect it).
+    // the environment maps (virtual objects reflect it), carrying the camera image there.
     bool phantom = false;
     // With `phantom`: a surface that only receives (DESIGN.md §6.5), e.g. the table under the
     // objects where it has no phantom of its own. In the frame it darkens the camera image
@@ -71,6 +71,9 @@ struct EnvironmentMapOptions {
     EnvironmentMapPolicy policy = EnvironmentMapPolicy::EveryFrame;
     int everyK = 2;
     double budgetMs = 8.0;
+    // Phantoms in the maps carry the camera image where the camera saw them (DESIGN.md §6.1);
+    // false: their configured colour everywhere (cheaper: drawn once while they stand still).
+    bool phantomsShowCamera = true;
     IblSettings ibl;
 };
 

@@ -171,6 +171,37 @@ TEST(RunReload, EditsApplyAndABadFileKeepsTheLastGoodConfiguration)
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::readText(dir / "log.txt");
 }
 
+// A phantom whose mesh file is broken is rejected like any bad file, naming the file, line
+// and key; the running scene (with its good phantom) goes on.
+TEST(RunReload, ABrokenPhantomMeshKeepsTheLastGoodConfiguration)
+{
+    const auto dir = test::scratchDirectory("run-reload-phantom");
+    const auto config = dir / "scene.toml";
+    const auto withPhantom = [](const std::string& model) {
+        return "[[markers]]\nid = 0\nsize = 0.16\n[[phantoms]]\nmarker = 0\nshape = \"mesh\"\nmodel = \"" + model +
+               "\"\nsize = 0.1\n";
+    };
+    std::ofstream(config) << sceneWritingTo("a.y4m", "", withPhantom("builtin:cube"));
+    std::ofstream(dir / "broken.glb") << "glTF, but not really";
+    const pid_t pid = test::spawnLumar({"run", "--config", config.string()}, dir / "log.txt");
+    ASSERT_GT(pid, 0);
+    ASSERT_TRUE(waitForFrames(dir / "a.y4m", 3, std::chrono::seconds(60))) << test::readText(dir / "log.txt");
+
+    replaceFile(config, sceneWritingTo("a.y4m", "", withPhantom("broken.glb")));
+    EXPECT_TRUE(waitForLog(dir / "log.txt", "configuration rejected", 1, std::chrono::seconds(30)))
+        << test::readText(dir / "log.txt");
+    const std::string log = test::readText(dir / "log.txt");
+    EXPECT_NE(log.find("phantoms[0].model: " + (dir / "broken.glb").string()), std::string::npos) << log;
+    const size_t before = fileSize(dir / "a.y4m");
+    EXPECT_TRUE(waitForFrames(dir / "a.y4m", before / kY4mFrameBytes + 3, std::chrono::seconds(30)))
+        << "frames keep flowing after a rejected file";
+
+    ASSERT_EQ(::kill(pid, SIGTERM), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::readText(dir / "log.txt");
+}
+
 // Waits until status.json says `key` = `value`; the last status read.
 nlohmann::json waitForStatus(const std::filesystem::path& file, const std::string& key, int value,
                              std::chrono::seconds limit)

@@ -44,11 +44,14 @@ TEST_F(ObjectHeadingConfigTest, ShippedExampleShowsTheBuiltInDefaultsHeading)
         EXPECT_EQ(example.objects[i].headingDeg, builtIn.objects[i].headingDeg);
 }
 
-TEST_F(ObjectHeadingConfigTest, PhantomsHaveNoHeading)
+TEST_F(ObjectHeadingConfigTest, PhantomsTurnByHeadingToo)
 {
-    // Phantoms are axis-aligned boxes on their marker (no rotation either): the key is unknown.
-    expectError("[[markers]]\nid = 0\nsize = 0.16\n[[phantoms]]\nmarker = 0\nsize = [1, 1, 1]\nheading = 10\n",
-                "test.toml:7: phantoms[0].heading: unknown key");
+    // Phantoms turn about the marker's normal like objects (issue 15); no general rotation.
+    const std::string phantom = "[[markers]]\nid = 0\nsize = 0.16\n[[phantoms]]\nmarker = 0\nsize = [1, 1, 1]\n";
+    EXPECT_EQ(parse(phantom).phantoms[0].headingDeg, 0.0);
+    EXPECT_DOUBLE_EQ(parse(phantom + "heading = 10\n").phantoms[0].headingDeg, 10.0);
+    expectError(phantom + "heading = 400\n", "test.toml:7: phantoms[0].heading: 400 is outside [-360, 360]");
+    expectError(phantom + "rotation = [0, 0, 10]\n", "test.toml:7: phantoms[0].rotation: unknown key");
 }
 
 } // namespace
