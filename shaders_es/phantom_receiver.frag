@@ -40,8 +40,9 @@ const int kMaxOccluders = 16;
 uniform int uOccluderCount;
 uniform mat4 uUnitFromCamera[kMaxOccluders];
 uniform mat3 uUnitNormalFromCamera[kMaxOccluders];
-// The first of the two passes over the phantoms writes their depth alone (colour masked).
-uniform bool uDepthPass;
+// xyz: the ellipsoid's centre (camera frame); w: the squared radius of a sphere holding its
+// reach (kOcclusionReach times its longest semi-axis).
+uniform vec4 uOccluderReach[kMaxOccluders];
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -55,7 +56,7 @@ const float kPi = 3.14159265;
 // Occluders farther than this many radii (in the unit-sphere space) darken nothing: the
 // window below takes their term smoothly to exactly zero, so the camera image far from every
 // object is untouched.
-const float kOcclusionReach = 4.0;
+const float kOcclusionReach = 2.0; // ShadowPass's too (it draws only within reach)
 
 // The fraction of the cosine-weighted sky that stays open. A unit sphere at distance d whose
 // centre makes angle theta with the normal blocks cos(theta) / d^2 of the cosine-weighted
@@ -69,9 +70,11 @@ const float kOcclusionReach = 4.0;
 float openness(vec3 position, vec3 normal)
 {
     float open = 1.0;
-    for (int i = 0; i < kMaxOccluders; ++i) {
-        if (i >= uOccluderCount)
-            break;
+    for (int i = 0; i < uOccluderCount; ++i) {
+        // A sphere around the reach first: most pixels are far from most objects.
+        vec3 fromCentre = position - uOccluderReach[i].xyz;
+        if (dot(fromCentre, fromCentre) >= uOccluderReach[i].w)
+            continue;
         vec3 q = (uUnitFromCamera[i] * vec4(position, 1.0)).xyz;
         float d2 = dot(q, q);
         if (d2 >= kOcclusionReach * kOcclusionReach)
@@ -91,26 +94,20 @@ float openness(vec3 position, vec3 normal)
 
 void main()
 {
-    if (uDepthPass) {
-        fragColor = vec4(1.0);
-        return;
-    }
     vec3 n = normalize(vNormal);
     if (!gl_FrontFacing)
         n = -n;
+    // The cheap tests first: most of a table is neither in a shadow nor near an object, and
+    // its pixels are left alone (a blended write of 1.0 would leave them unchanged too, but on
+    // llvmpipe blending into the RGB8 frame cost ~300 ms per 1280x720 frame of table).
+    float open = openness(vPosition, n);
+    float nl = lightIrradiance.w > 0.5 ? dot(n, lightDirection.xyz) : 0.0;
+    float visibility = nl > 0.0 && lightDirection.w > 0.5 ? shadowVisibility(vPosition, n) : 1.0;
+    if (open == 1.0 && visibility == 1.0)
+        discard;
     vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, environmentFromCamera * n, 0.0),
                                             frameParams.z > 0.5);
-    vec3 light = vec3(0.0);
-    float visibility = 1.0;
-    if (lightIrradiance.w > 0.5) {
-        float nl = dot(n, lightDirection.xyz);
-        if (nl > 0.0) {
-            light = min(lightIrradiance.rgb * nl, environment);
-            if (lightDirection.w > 0.5)
-                visibility = shadowVisibility(vPosition, n);
-        }
-    }
-    float open = openness(vPosition, n);
+    vec3 light = min(lightIrradiance.rgb * max(nl, 0.0), environment);
     const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
     float removed = dot((1.0 - visibility) * light + (1.0 - open) * (environment - light), kLuminance);
     float ratio = clamp(1.0 - removed / max(dot(environment, kLuminance), 1e-6), 0.0, 1.0);

@@ -22,6 +22,10 @@ layout(location = 1) in vec3 aNormal;
 out vec3 vPosition;
 out vec3 vNormal;
 
+// Phantoms are drawn twice, into depth (with depth_only.frag) and then darkened where their
+// depth is equal: both programs must compute the same positions.
+invariant gl_Position;
+
 void main()
 {
     vec4 position = uCameraFromMesh * vec4(aPosition, 1.0);

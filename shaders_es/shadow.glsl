@@ -5,7 +5,8 @@
 //
 // PCF: a 3 x 3 grid of taps spanning +-softness texels, each a bilinear 2 x 2 comparison
 // (GL_LINEAR with GL_COMPARE_REF_TO_TEXTURE), so the penumbra is a smooth ramp about
-// 2 * softness + 1 texels wide. A point outside the map's frustum is lit: the map covers every
+// 2 * softness + 1 texels wide. (An occluder thinner than the kernel that slips between its
+// four corners is missed: below 2 * softness texels.) A point outside the map's frustum is lit: the map covers every
 // caster, and a point no caster lies between it and the light cannot be shadowed.
 float shadowVisibility(vec3 position, vec3 normal)
 {
@@ -17,10 +18,20 @@ float shadowVisibility(vec3 position, vec3 normal)
         return 1.0;
     float reference = uvz.z - shadowParams.w;
     vec2 spacing = vec2(shadowParams.x * shadowParams.y);
-    float sum = 0.0;
+    // The kernel's four corners first: where they agree (all lit or all shadowed: everywhere
+    // but a penumbra a few texels wide) they are the answer, for four taps instead of nine.
+    float corners = texture(uShadowMap, vec3(uvz.xy + vec2(-1.0, -1.0) * spacing, reference)) +
+                    texture(uShadowMap, vec3(uvz.xy + vec2(1.0, -1.0) * spacing, reference)) +
+                    texture(uShadowMap, vec3(uvz.xy + vec2(-1.0, 1.0) * spacing, reference)) +
+                    texture(uShadowMap, vec3(uvz.xy + vec2(1.0, 1.0) * spacing, reference));
+    if (corners >= 3.999)
+        return 1.0;
+    if (corners <= 0.001)
+        return 0.0;
+    float sum = corners;
     for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i)
-            sum += texture(uShadowMap, vec3(uvz.xy + vec2(float(i), float(j)) * spacing, reference));
-    // Nine full taps may sum to a hair under 9: fully lit is exactly lit.
-    return sum >= 8.999 ? 1.0 : sum / 9.0;
+            if (i == 0 || j == 0)
+                sum += texture(uShadowMap, vec3(uvz.xy + vec2(float(i), float(j)) * spacing, reference));
+    return sum / 9.0;
 }

@@ -27,10 +27,12 @@ inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.f
 inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
 inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
 inline constexpr ProgramSources kPhantomReceiverProgram{"phantom_receiver.vert", "phantom_receiver.frag"};
-inline constexpr std::array<ProgramSources, 12> kAllPrograms{
+inline constexpr ProgramSources kPhantomReceiverDepthProgram{"phantom_receiver.vert", "depth_only.frag"};
+inline constexpr std::array<ProgramSources, 13> kAllPrograms{
     kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,   kMeshProgram,
     kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram, kShReduceProgram,
-    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,   kPhantomProgram};
+    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,   kPhantomReceiverDepthProgram,
+    kPhantomProgram};
 
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the

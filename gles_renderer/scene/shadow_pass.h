@@ -14,6 +14,7 @@
 #include "gles_renderer/gl/gl_object.h"
 #include "gles_renderer/ibl_gpu/ibl_maps.h"
 #include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/pixel_rects.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/scene/uniform_blocks.h"
 
@@ -57,9 +58,14 @@ private:
     bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                         const glm::dmat3& environmentFromCamera);
     void linkDepthProgram();
-    void linkReceiverProgram();
+    void linkReceiverPrograms();
     void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
-    void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
+    // Sets the receiver program's occluders (and reachSpheres_).
+    void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
+    // Where in the viewport the receivers can be darkened, as disjoint rectangles: the parts
+    // of each receiver inside a caster's prism along the light, and within reach of an occluder.
+    [[nodiscard]] std::vector<PixelRect> darkenedRects(const FrameUniforms& frame, const std::vector<GpuModel>& models,
+                                                       std::span<const DrawItem> items) const;
 
     ShadowOptions options_;
     int size_;
@@ -68,6 +74,10 @@ private:
     // This frame's light, in the frame's camera frame.
     glm::dvec3 lightDirection_{0.0, 0.0, -1.0};
     glm::dmat4 lightClipFromCamera_{1.0};
+    glm::dmat4 lightViewFromCamera_{1.0};
+    // Each caster's box in the light's view frame, reaching to the map's far end: the
+    // shadow it casts lies inside.
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> casterPrisms_;
     double texelMetres_ = 0.0;
     double depthBias_ = 0.0;
     bool mapValid_ = false;
@@ -82,7 +92,13 @@ private:
     GLint occluderCountLocation_ = -1;
     GLint unitFromCameraLocation_ = -1;
     GLint unitNormalFromCameraLocation_ = -1;
-    GLint depthPassLocation_ = -1;
+    GLint occluderReachLocation_ = -1;
+    GlProgram receiverDepthProgram_;
+    GLint receiverDepthCameraFromMeshLocation_ = -1;
+    GLint receiverDepthNormalFromMeshLocation_ = -1;
+    // This frame's occluders: the camera frame from the space where each one's ellipsoid is
+    // the unit sphere (its reach is the cube of side 2 kOcclusionReach there).
+    std::vector<glm::dmat4> reachBoxes_;
     GlBuffer frameUniforms_;
 };
 

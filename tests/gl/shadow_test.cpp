@@ -289,8 +289,8 @@ TEST(Shadows, OffLeavesTheFrameAsWithoutShadows)
 // Contact darkening under a diffuse sky with no light: a 0.1 m box standing on a receiver-only
 // ground plane. Next to its base (7 cm from its centre) the ground sees the box's equal-volume
 // sphere (radius 0.062, centre 0.05 m up) at d = 1.39 radii, 36 degrees above the horizon:
-// it blocks cos(54 deg) / d^2 = 0.30 of the sky (0.28 with the fade-out window), so the
-// linear value drops to about 0.72 and the encoded one to 0.72^(1/2.2) = 0.86 of the far
+// it blocks cos(54 deg) / d^2 = 0.30 of the sky (0.21 with the fade-out window), so the
+// linear value drops to about 0.79 and the encoded one to 0.79^(1/2.2) = 0.90 of the far
 // ground's. Stated: between 0.80 and 0.92. Far away (0.4 m) the ground is the camera image.
 TEST(Shadows, ContactDarkeningUnderADiffuseSky)
 {

@@ -1,0 +1,22 @@
+// Window-space rectangles of pixels, and a disjoint cover of their union: a pass that must
+// touch each pixel at most once (a multiplicative blend) can then be drawn once per rectangle
+// with the scissor test, over the union alone instead of its bounding rectangle.
+#pragma once
+
+#include <span>
+#include <vector>
+
+namespace lumar {
+
+// [x0, x1) x [y0, y1).
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    [[nodiscard]] bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
+// Disjoint rectangles whose union is the union of `rects` (empty ones ignored): the grid of
+// every rectangle's edges, its covered cells merged into runs along rows, and runs of equal
+// span in consecutive rows merged into one rectangle.
+std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
+
+} // namespace lumar
