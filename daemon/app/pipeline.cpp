@@ -155,6 +155,13 @@ std::filesystem::file_time_type environmentWritten(const EnvironmentConfig& envi
     return ec ? std::filesystem::file_time_type{} : written;
 }
 
+EnvironmentSource environmentSourceFor(const EnvironmentConfig& environment)
+{
+    return environment.source == "camera"       ? EnvironmentSource::Camera
+           : environment.source == "camera+hdr" ? EnvironmentSource::CameraOverHdr
+                                                : EnvironmentSource::Hdr;
+}
+
 ImageF loadEnvironment(const EnvironmentConfig& environment)
 {
     return environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(environment.hdr);
@@ -227,6 +234,7 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
 
     renderer_ = makeRenderer(config_, capture_->width(), capture_->height(), profile_, window_);
     renderer_->setEnvironment(environment, float(config_.environment.intensity));
+    renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(models);
 }
 
@@ -321,6 +329,11 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
         renderer_->setEnvironment(*prepared.environment, float(config_.environment.intensity));
         environmentWritten_ = prepared.environmentWritten;
     }
+    // A new configuration takes a new exposure reference; a map built from the camera holds
+    // radiance relative to the old one, so it starts again too.
+    exposureMeter_.reset();
+    renderer_->setExposure(1.0f);
+    renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(prepared.models);
     summary.modelsAfter = objects_.size();
     return summary;
@@ -409,6 +422,12 @@ bool Pipeline::step(FrameReport& report)
     if (environmentAnchor) {
         const glm::dmat3 markerFromCamera = glm::transpose(poseAt(*environmentAnchor, poseTimeNs).R);
         renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
+    }
+    if (config_.environment.matchExposure) {
+        // The frame's objects follow the smoothed exposure (no flicker); the environment built
+        // from the camera divides this image by its own, so a ramp leaves no trace in it.
+        renderer_->setExposure(float(exposureMeter_.update(frame_.luma)));
+        renderer_->setCameraImageExposure(float(exposureMeter_.frameExposure()));
     }
     // A source that kept the camera's YCbCr planes (v4l2 with camera.convert = "gpu") leaves
     // the conversion to the renderer; every other frame arrives as RGB.

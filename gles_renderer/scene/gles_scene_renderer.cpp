@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
 #include "gles_renderer/scene/background_pass.h"
+#include "gles_renderer/scene/camera_environment.h"
 #include "gles_renderer/scene/camera_image.h"
 #include "gles_renderer/scene/camera_projection.h"
 #include "gles_renderer/scene/environment_probes.h"
@@ -58,7 +60,7 @@ public:
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
-          profile_(options.profile)
+          mirrorSize_(options.environmentMaps.ibl.mirrorSize), profile_(options.profile)
     {
         checkGlError("creating the scene renderer");
         // Zero-copy camera frames are imported from their dmabufs where this display can.
@@ -100,11 +102,27 @@ public:
     {
         context_.makeCurrent();
         environment_.set(equirect, intensity);
+        captureFrame_ = 0; // a camera source's maps are refreshed with it at once
     }
 
     void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) override
     {
         environment_.setRotation(environmentFromCamera);
+        orientationTracked_ = true;
+    }
+
+    void setEnvironmentSource(EnvironmentSource source) override
+    {
+        context_.makeCurrent();
+        if (source != EnvironmentSource::Hdr) {
+            if (!cameraEnvironment_)
+                cameraEnvironment_ = std::make_unique<CameraEnvironment>(probes_.rgbm());
+            cameraEnvironment_->reset();
+            captureFrame_ = 0;
+        } else if (environmentSource_ != EnvironmentSource::Hdr) {
+            probes_.markEnvironmentStale();
+        }
+        environmentSource_ = source;
     }
 
     void setExposure(float scale) override
@@ -112,6 +130,14 @@ public:
         if (!(std::isfinite(scale) && scale > 0.0f))
             throw InputError("exposure scale must be positive and finite, got " + std::to_string(scale));
         exposure_ = scale;
+        cameraExposure_ = scale;
+    }
+
+    void setCameraImageExposure(float scale) override
+    {
+        if (!(std::isfinite(scale) && scale > 0.0f))
+            throw InputError("camera image exposure must be positive and finite, got " + std::to_string(scale));
+        cameraExposure_ = scale;
     }
 
     void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
@@ -160,6 +186,13 @@ public:
     [[nodiscard]] RenderStats lastStats() const override { return stats_; }
     [[nodiscard]] const IblMaps* objectMaps(int object) const override { return probes_.objectMaps(object); }
     [[nodiscard]] const IblMaps& environmentMaps() const override { return probes_.environmentMaps(); }
+    [[nodiscard]] double environmentCoverage() override
+    {
+        if (environmentSource_ == EnvironmentSource::Hdr)
+            return 0.0;
+        context_.makeCurrent();
+        return cameraEnvironment_->coverage();
+    }
 
     [[nodiscard]] int width() const override { return width_; }
     [[nodiscard]] int height() const override { return height_; }
@@ -189,6 +222,8 @@ private:
             cameraImage_.capture(target_);
             camera = {cameraImage_.texture(), frame_.clipFromCamera};
         }
+        if (environmentSource_ != EnvironmentSource::Hdr)
+            captureEnvironment(camera);
 
         const std::span<const IblMaps* const> maps =
             probes_.update(models_, items, environment_, meshes_, camera, profile_, stats_);
@@ -212,10 +247,37 @@ private:
     }
 
     // Whether this frame's passes look at the camera image from elsewhere.
-    static bool needsCameraImage(std::span<const DrawItem> items)
+    bool needsCameraImage(std::span<const DrawItem> items) const
     {
-        return std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
+        return environmentSource_ != EnvironmentSource::Hdr ||
+               std::any_of(items.begin(), items.end(), [](const DrawItem& item) { return item.phantom; });
     }
+
+    // The environment built from the camera: this frame's image added where the orientation
+    // is tracked, and every kCameraEnvironmentEvery-th frame the real environment's maps
+    // rendered from it.
+    void captureEnvironment(const CameraView& camera)
+    {
+        const auto start = std::chrono::steady_clock::now();
+        if (orientationTracked_)
+            cameraEnvironment_->accumulate(camera, environment_.environmentFromCamera(), cameraExposure_);
+        orientationTracked_ = false;
+        if (captureFrame_++ % kCameraEnvironmentEvery == 0) {
+            const GLuint fill = environmentSource_ == EnvironmentSource::CameraOverHdr ? environment_.equirect() : 0;
+            probes_.refreshEnvironmentMaps(environment_, [&](int face) {
+                cameraEnvironment_->drawSkybox(face, mirrorSize_, fill, environment_.equirectWidth(), camera,
+                                               cameraExposure_);
+            });
+        }
+        if (profile_) {
+            glFinish();
+            stats_.environmentCaptureMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        }
+    }
+
+    // How often the real environment's maps are rendered from the camera's map (frames).
+    static constexpr long kCameraEnvironmentEvery = 1;
 
     // Declared first so it is destroyed last: every GL object below needs it.
     EglContext context_;
@@ -229,8 +291,14 @@ private:
     FrameReadback readback_;
     CameraImage cameraImage_{width_, height_};
     float exposure_ = 1.0f;
+    float cameraExposure_ = 1.0f;
     std::vector<GpuModel> models_;
     EnvironmentProbes probes_;
+    int mirrorSize_;
+    EnvironmentSource environmentSource_ = EnvironmentSource::Hdr;
+    std::unique_ptr<CameraEnvironment> cameraEnvironment_; // made for the first camera source
+    bool orientationTracked_ = false;                      // setEnvironmentRotation() since the last frame
+    long captureFrame_ = 0;
     bool profile_;
     RenderStats stats_;
     FrameUniforms frame_;
