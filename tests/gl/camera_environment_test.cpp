@@ -117,6 +117,13 @@ TEST_P(CameraEnvironmentOrbit, BuildsTheMapTheCameraSees)
     // The frames' vertical field of view (74 degrees, less the edge ramp) reaches past both
     // poles from the outer pitches. Measured: 1.0.
     EXPECT_GT(coverage, 0.99);
+    // The real environment's maps are rebuilt from the map every few frames: a few more
+    // frames, and they show the last frames of the orbit too.
+    for (int frame = 0; frame < 4; ++frame) {
+        const glm::dmat3 r = environmentFromCamera(orbit().back().yawDeg, orbit().back().pitchDeg);
+        renderer.setEnvironmentRotation(r);
+        renderer.render(synthesiseFrame(venice(), kSceneScale, k, r), k, {});
+    }
 
     const SH9 reference = projectSH9BruteForce(
         [](glm::vec3 d) { return glm::min(sampleEquirectBilinear(venice(), d) * kSceneScale, glm::vec3(1.0f)); }, 256);
