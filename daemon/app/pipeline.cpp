@@ -159,6 +159,13 @@ std::filesystem::file_time_type environmentWritten(const EnvironmentConfig& envi
     return ec ? std::filesystem::file_time_type{} : written;
 }
 
+EnvironmentSource environmentSourceFor(const EnvironmentConfig& environment)
+{
+    return environment.source == "camera"       ? EnvironmentSource::Camera
+           : environment.source == "camera+hdr" ? EnvironmentSource::CameraOverHdr
+                                                : EnvironmentSource::Hdr;
+}
+
 ImageF loadEnvironment(const EnvironmentConfig& environment)
 {
     return environment.hdr.empty() ? neutralEnvironment() : loadHdrImage(environment.hdr);
@@ -248,6 +255,7 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
     if (needsDerivedLight(config_))
         derivedLight_ = dominantLight(environment);
     applyLight();
+    renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(models);
 }
 
@@ -386,6 +394,11 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
         derivedLight_ = prepared.environmentLight;
     }
     applyLight();
+    // A new configuration takes a new exposure reference; a map built from the camera holds
+    // radiance relative to the old one, so it starts again too.
+    exposureMeter_.reset();
+    renderer_->setExposure(1.0f);
+    renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(prepared.models);
     summary.modelsAfter = objects_.size();
     return summary;
@@ -481,6 +494,12 @@ bool Pipeline::step(FrameReport& report)
     if (environmentAnchor) {
         const glm::dmat3 markerFromCamera = glm::transpose(poseAt(*environmentAnchor, poseTimeNs).R);
         renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
+    }
+    if (config_.environment.matchExposure) {
+        // The frame's objects follow the smoothed exposure (no flicker); the environment built
+        // from the camera divides this image by its own, so a ramp leaves no trace in it.
+        renderer_->setExposure(float(exposureMeter_.update(frame_.luma)));
+        renderer_->setCameraImageExposure(float(exposureMeter_.frameExposure()));
     }
     // A source that kept the camera's YCbCr planes (v4l2 with camera.convert = "gpu") leaves
     // the conversion to the renderer; every other frame arrives as RGB.

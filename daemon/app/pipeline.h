@@ -14,6 +14,7 @@
 #include "core/camera_model.h"
 #include "core/frame.h"
 #include "detection_worker.h"
+#include "exposure_meter.h"
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl/dominant_light.h"
 #include "gles_renderer/scene/scene_renderer.h"
@@ -151,6 +152,8 @@ private:
     std::map<int, MarkerState> markers_;
     PoseFilterSettings filterSettings_;
     std::vector<DrawItem> drawItems_;
+    // The camera image's brightness against its first frames' ([environment] match_exposure).
+    ExposureMeter exposureMeter_;
     Frame frame_;
     Image8 output_;
 };

@@ -53,7 +53,12 @@ int benchCommand(const BenchCommandOptions& options)
     const long frames = options.frames;
     const long warmup = options.warmup;
 
-    const Config config = configFromOptions(options.config);
+    Config config = configFromOptions(options.config);
+    if (!options.environmentSource.empty()) {
+        config.environment.source = options.environmentSource;
+        if (config.environment.source == "camera+hdr" && config.environment.hdr.empty())
+            throw InputError("--environment-source camera+hdr: the configuration names no [environment] hdr");
+    }
     const bool profile = !options.noProfile;
     Pipeline pipeline(config, profile);
     // As the daemon runs: detection on its own thread, never waited for.
@@ -65,9 +70,9 @@ int benchCommand(const BenchCommandOptions& options)
             throw InputError("the camera source ended during warm-up");
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs;
-    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, mapsUpdated;
+    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, environmentCaptureMs, mapsUpdated;
     for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &environmentMapsMs, &shMs, &prefilterMs,
-                    &shadingMs, &shadowsMs, &mapsUpdated})
+                    &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -86,6 +91,7 @@ int benchCommand(const BenchCommandOptions& options)
         prefilterMs.push_back(stats.prefilterMs);
         shadingMs.push_back(stats.shadingMs);
         shadowsMs.push_back(stats.shadowsMs);
+        environmentCaptureMs.push_back(stats.environmentCaptureMs);
         mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
@@ -104,6 +110,7 @@ int benchCommand(const BenchCommandOptions& options)
             stages["prefilter"] = jsonDecimals(mean(prefilterMs), 3);
             stages["shading"] = jsonDecimals(mean(shadingMs), 3);
             stages["shadows"] = jsonDecimals(mean(shadowsMs), 3);
+            stages["environment_capture"] = jsonDecimals(mean(environmentCaptureMs), 3);
         }
         const Json summary = {
             {"frames", measured},
@@ -132,7 +139,9 @@ int benchCommand(const BenchCommandOptions& options)
                                                                                 {"sh", &shMs},
                                                                                 {"prefilter", &prefilterMs},
                                                                                 {"shading", &shadingMs},
-                                                                                {"shadows", &shadowsMs}};
+                                                                                {"shadows", &shadowsMs},
+
+                                                                                {"env_capture", &environmentCaptureMs}};
             for (const auto& [name, values] : parts)
                 std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                             percentile(*values, 0.99));

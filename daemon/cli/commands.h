@@ -50,6 +50,7 @@ struct BenchCommandOptions {
     bool json = false;
     bool noProfile = false;
     bool syncDetection = false;
+    std::string environmentSource; // overrides [environment] source when set
 };
 
 struct ProbeCommandOptions {

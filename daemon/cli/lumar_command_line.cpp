@@ -348,6 +348,11 @@ GPU would otherwise overlap with the next stage; --no-profile measures without t
     addFlag(*c, "--sync-detection", o.syncDetection,
             "detect in the render loop (as `lumar render` does) instead of on a\n"
             "worker thread (as `lumar run` does); \"detect\" is then time in the loop");
+    c->add_option("--environment-source", o.environmentSource,
+                  "[environment] source for this run: hdr, camera or camera+hdr\n"
+                  "(to compare the environment built from the camera with the file)")
+        ->type_name("SOURCE")
+        ->check(CLI::IsMember({"hdr", "camera", "camera+hdr"}));
     addConfigLogLevel(*c, o.config);
     c->footer("lumar bench --tracking [options] scores the tag tracker instead (see 'lumar bench --tracking --help').");
     return {c, [&o] { return benchCommand(o); }};

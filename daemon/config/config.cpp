@@ -468,6 +468,11 @@ void readEnvironment(TableReader& root, EnvironmentConfig& environment, const Co
     TableReader r(*table, "environment", ctx.fileName);
     r.path("hdr", environment.hdr, ctx.baseDir, Expect::File);
     r.number("intensity", environment.intensity, 0.0, 100.0);
+    r.oneOf("source", environment.source, {"hdr", "camera", "camera+hdr"});
+    if (environment.source == "camera+hdr" && environment.hdr.empty())
+        r.fail(table->get("source"), "source",
+               "\"camera+hdr\" fills what the camera has not seen from an hdr: set hdr");
+    r.boolean("match_exposure", environment.matchExposure);
     r.finish();
 }
 

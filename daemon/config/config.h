@@ -147,7 +147,17 @@ struct ObjectConfig {
 
 struct EnvironmentConfig {
     std::filesystem::path hdr; // equirectangular Radiance .hdr
-    double intensity = 1.0;
+    double intensity = 1.0;    // scales the .hdr (the camera's part is in the camera's own units)
+    // Where the real environment comes from (DESIGN.md §6.5): "hdr" (the file), "camera" (built
+    // from the camera frames as the camera turns, unseen directions the image's mean; no hdr
+    // needed) or "camera+hdr" (the same, unseen directions from the hdr, which it needs).
+    std::string source = "hdr";
+    // The virtual objects follow the camera image's brightness (app/exposure_meter.h). On by
+    // default: webcams and libcamera run auto-exposure unless told otherwise, and without it
+    // every exposure step the camera takes leaves the objects visibly brighter or darker than
+    // the scene around them. Turn it off for a camera with fixed exposure whose view moves
+    // between bright and dark parts of the room (the meter cannot tell that from exposure).
+    bool matchExposure = true;
     bool operator==(const EnvironmentConfig&) const = default;
 };
 

@@ -68,6 +68,8 @@ size = 0.2
 [environment]
 hdr = "env/venice_sunset_1k.hdr"
 intensity = 1.0
+source = "hdr"
+match_exposure = true
 
 [rendering]
 environment_maps = "auto"

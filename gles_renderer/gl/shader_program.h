@@ -33,6 +33,10 @@ inline constexpr std::array<ProgramSources, 13> kAllPrograms{
     kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram, kShReduceProgram,
     kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,   kPhantomReceiverDepthProgram,
     kPhantomProgram};
+// The environment built from the camera (linked by every renderer that builds one).
+inline constexpr ProgramSources kCameraEnvironmentAccumulateProgram{"fullscreen.vert",
+                                                                    "camera_environment_accumulate.frag"};
+inline constexpr ProgramSources kCameraEnvironmentSkyboxProgram{"cube_face.vert", "camera_environment_skybox.frag"};
 
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the

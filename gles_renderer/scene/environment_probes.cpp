@@ -134,6 +134,20 @@ void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& enviro
     checkGlError("building the real environment's maps");
 }
 
+void EnvironmentProbes::refreshEnvironmentMaps(const EnvironmentLighting& environment,
+                                               const std::function<void(int face)>& drawSkybox)
+{
+    pipeline_.renderMirror(environmentMaps_, nullptr, drawSkybox);
+    pipeline_.updateDerivedMaps(environmentMaps_);
+    environmentGeneration_ = environment.generation();
+    for (auto& [object, history] : history_)
+        history.bouncesLeft = kSettlingUpdates;
+    // The phantoms are lit by the real environment's maps: their layers are drawn again.
+    for (auto& [object, layer] : phantomLayers_)
+        layer.drawn = false;
+    checkGlError("refreshing the real environment's maps");
+}
+
 void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment)
 {
     updates_.clear();

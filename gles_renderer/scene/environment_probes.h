@@ -5,6 +5,7 @@
 // the configured policy; an object whose maps are not ready is lit by the real environment.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <span>
 #include <utility>
@@ -39,6 +40,15 @@ public:
     [[nodiscard]] const IblMaps& environmentMaps() const { return environmentMaps_; }
     // Whether the maps are RGBA8 RGBM (no float render targets): shaders decode them.
     [[nodiscard]] bool rgbm() const { return pipeline_.rgbm(); }
+    // Renders the real environment's maps with drawSkybox(face) as every face's content (the
+    // environment built from the camera) instead of from `environment`'s map; update() keeps
+    // them until `environment` changes again. The objects' maps are kept (an environment that
+    // changes every few frames must not throw them away): they take the new maps as their
+    // backdrop at their next update, which the on_change policy schedules.
+    void refreshEnvironmentMaps(const EnvironmentLighting& environment,
+                                const std::function<void(int face)>& drawSkybox);
+    // The next update() rebuilds the real environment's maps from the environment's map.
+    void markEnvironmentStale() { environmentGeneration_ = -1; }
     // Forgets every object's maps (the models they showed are gone).
     void clear()
     {

@@ -87,6 +87,16 @@ struct RenderStats {
     double prefilterMs = 0;       // the glossy maps
     double shadingMs = 0;         // background and the objects in the frame
     double shadowsMs = 0;         // the shadow map (the receivers are drawn within shading)
+    // The camera image projected into the environment built from it, and that environment's
+    // own maps rebuilt (EnvironmentSource::Camera*; 0 with the .hdr alone).
+    double environmentCaptureMs = 0;
+};
+
+// Where the real environment's radiance comes from (DESIGN.md §6.5).
+enum class EnvironmentSource {
+    Hdr,           // the map given to setEnvironment()
+    Camera,        // built from the camera frames; directions not seen yet show the camera image's mean
+    CameraOverHdr, // built from the camera frames; directions not seen yet show setEnvironment()'s map
 };
 
 struct RenderOptions {
@@ -115,16 +125,27 @@ public:
     virtual void setEnvironment(const ImageF& equirect, float intensity) = 0;
     // Rotation from the OpenCV camera frame to the environment map's frame (+Y up), so the
     // real environment stays fixed to the world while the camera moves. Identity until set.
+    // Setting it says the orientation is tracked in the next frame: only such frames add to
+    // an environment built from the camera.
     virtual void setEnvironmentRotation(const glm::dmat3& environmentFromCamera) = 0;
     // The light whose shadows are drawn (with RenderOptions::shadows), environment frame. None
     // until set. Throws InputError for a zero or non-finite direction, or a negative or
     // non-finite colour or intensity.
     virtual void setLight(const DirectionalLight& light) = 0;
 
+    // Hdr until set. A camera source projects every frame whose orientation was set into a
+    // map of what the camera has seen, in radiance divided by the exposure (setExposure), and
+    // lights the objects with it; setting a source forgets what was seen before.
+    virtual void setEnvironmentSource(EnvironmentSource source) = 0;
+
     // Scales the virtual objects' radiance in the frame (not in the environment maps) before
     // tone mapping: the camera's exposure relative to the one the lighting was set up for,
     // so virtual objects darken and brighten with the camera image. 1 until set.
     virtual void setExposure(float scale) = 0;
+    // The same measured for the next frame's camera image alone (not smoothed over frames),
+    // which the environment built from the camera divides the image by so that what it
+    // keeps stays at the reference exposure; call after setExposure(), which sets both.
+    virtual void setCameraImageExposure(float scale) = 0;
 
     // Composites the models over `backgroundRgb` (3 channels, the output size).
     virtual void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
@@ -144,6 +165,9 @@ public:
     // the real environment alone. Their textures stay owned by the renderer.
     [[nodiscard]] virtual const IblMaps* objectMaps(int object) const = 0;
     [[nodiscard]] virtual const IblMaps& environmentMaps() const = 0;
+    // Test access: the fraction of the sphere (by solid angle) the camera source has seen; 0
+    // with the .hdr source. Reads the map back from the GPU.
+    [[nodiscard]] virtual double environmentCoverage() = 0;
 
     [[nodiscard]] virtual int width() const = 0;
     [[nodiscard]] virtual int height() const = 0;
