@@ -25,6 +25,11 @@ layout(std140) uniform Frame {
     mat4 clipFromCamera; // the cube face's projection
     mat3 environmentFromCamera;
     vec4 frameParams; // x: -1 (mirrored face frame), z: 1 = RGBM maps (mesh.frag)
+    // The dominant light (mesh.frag); unused here, declared so the block matches mesh.vert's.
+    mat4 lightClipFromCamera;
+    vec4 lightDirection;
+    vec4 lightIrradiance;
+    vec4 shadowParams;
 };
 
 layout(std140) uniform Material {
