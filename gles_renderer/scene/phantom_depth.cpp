@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
 
 namespace lumar {
 namespace {
@@ -16,16 +17,9 @@ constexpr float kConstantOffset = 8.0f;
 } // namespace
 
 PhantomDepth::PhantomDepth(int width, int height)
-    : width_(width), height_(height), texture_(GlTexture::create()), framebuffer_(GlFramebuffer::create())
+    : width_(width), height_(height), texture_(makeDepthCompareTexture(width, height)),
+      framebuffer_(GlFramebuffer::create())
 {
-    glBindTexture(GL_TEXTURE_2D, texture_.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, width_, height_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_.name());
     glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, texture_.name(), 0);
     const GLenum none = GL_NONE;

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
 #include "gles_renderer/scene/mesh_pass.h"
 
@@ -100,8 +101,7 @@ void addFaceRect(const glm::dmat4& cameraFromModel, int axis, double plane, cons
 } // namespace
 
 ShadowPass::ShadowPass(const ShadowOptions& options)
-    : options_(options), size_(options.enabled ? options.mapSize : 1), map_(GlTexture::create()),
-      frameUniforms_(GlBuffer::create())
+    : options_(options), size_(options.enabled ? options.mapSize : 1), frameUniforms_(GlBuffer::create())
 {
     if (options_.enabled) {
         GLint maxSize = 0;
@@ -112,14 +112,7 @@ ShadowPass::ShadowPass(const ShadowOptions& options)
         if (!(options_.softness >= 0.0f && options_.softness <= 64.0f))
             throw InputError("shadow softness must be in [0, 64] texels, got " + std::to_string(options_.softness));
     }
-    glBindTexture(GL_TEXTURE_2D, map_.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, size_, size_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    map_ = makeDepthCompareTexture(size_, size_);
     glBindTexture(GL_TEXTURE_2D, 0);
     checkGlError("creating the shadow map");
     if (!options_.enabled)
