@@ -137,18 +137,26 @@ INSTANTIATE_TEST_SUITE_P(FloatAndRgbm, CameraEnvironmentOrbit, ::testing::Values
                          [](const auto& instance) { return instance.param ? "Rgbm" : "Float"; });
 
 // The camera source draws nothing over the frame: without virtual objects the output is the
-// input.
+// input, with shadows on, a light set and a phantom box (camera-textured in no map, since no
+// object owns one; it writes depth and receives no shadow).
 TEST(CameraEnvironment, PassesTheCameraImageThrough)
 {
     const CameraIntrinsics k = test::makeIntrinsics(160, 120, 80, 80, 79.5, 59.5);
-    LUMAR_RENDERER_OR_SKIP(renderer, k.width, k.height);
+    RenderOptions options;
+    options.shadows.enabled = true;
+    LUMAR_RENDERER_OR_SKIP(renderer, k.width, k.height, options);
     renderer.setEnvironmentSource(EnvironmentSource::CameraOverHdr);
     renderer.setEnvironment(venice(), 1.0f);
+    renderer.setLight(DirectionalLight{glm::dvec3(0.3, 1.0, 0.2), glm::vec3(1.0f), 2.0f});
+    const ModelId box = renderer.addModel(makeCube());
+    glm::dmat4 boxPose = glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.1, 1.0));
+    boxPose = glm::scale(boxPose, glm::dvec3(0.3));
+    const DrawItem phantom{box, boxPose, -1, true};
     for (int frame = 0; frame < 3; ++frame) {
         const glm::dmat3 r = environmentFromCamera(40.0 * frame, 10.0);
         const Image8 input = synthesiseFrame(venice(), kSceneScale, k, r);
         renderer.setEnvironmentRotation(r);
-        renderer.render(input, k, {});
+        renderer.render(input, k, {&phantom, 1});
         Image8 output;
         renderer.readback(output);
         ASSERT_EQ(output.data.size(), input.data.size());
