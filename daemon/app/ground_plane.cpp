@@ -54,7 +54,10 @@ std::optional<glm::dmat4> groundUnder(std::span<const PlacedBox> objects, std::s
         return std::nullopt;
     const glm::dvec2 centre = 0.5 * (glm::dvec2(low) + glm::dvec2(high));
     for (const PhantomConfig& phantom : phantoms) {
-        const double top = phantom.offset.z + 0.5 * phantom.size.z;
+        if (phantom.shape == "mesh")
+            continue; // its extent needs the model; a mesh table leaves the ground in place
+        // A plane has no thickness (its size.z is unused): its top is where it lies.
+        const double top = phantom.offset.z + (phantom.shape == "plane" ? 0.0 : 0.5 * phantom.size.z);
         const glm::dvec2 halfSize = 0.5 * glm::dvec2(phantom.size);
         if (std::abs(top) <= kSamePlaneMetres && std::abs(centre.x - phantom.offset.x) <= halfSize.x &&
             std::abs(centre.y - phantom.offset.y) <= halfSize.y)

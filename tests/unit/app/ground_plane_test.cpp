@@ -54,5 +54,18 @@ TEST(GroundPlane, LeftOutWhereAPhantomTopIsTheMarkerPlane)
     EXPECT_FALSE(groundUnder({}, {}));
 }
 
+// A table given as a plane phantom lying in the marker's plane is that plane too (a second
+// receiver there would fight it for depth and darken twice: striped shadows).
+TEST(GroundPlane, LeftOutOverAPlanePhantomInTheMarkerPlane)
+{
+    const PlacedBox boxes[] = {standingBox()};
+    PhantomConfig table;
+    table.shape = "plane";
+    table.size = {1.2, 1.2, 1.0}; // z unused, as the config reader leaves it for [x, y]
+    EXPECT_FALSE(groundUnder(boxes, {&table, 1}));
+    table.offset.z = -0.06; // a surface below the marker's plane
+    EXPECT_TRUE(groundUnder(boxes, {&table, 1}));
+}
+
 } // namespace
 } // namespace lumar
