@@ -129,14 +129,17 @@ TEST_F(RenderEndToEnd, ModelAppearsWhereGroundTruthPutsIt)
         camera.render(uint64_t(k), raw);
         ASSERT_EQ(rendered.width, raw.rgb.width);
         ASSERT_EQ(rendered.height, raw.rgb.height);
-        // The model's silhouette: pixels that differ from the camera image.
+        // The model's silhouette: pixels that differ from the camera image. Untouched pixels
+        // equal it within 1 code value per channel (UntouchedPixelsAreTheCameraImage), so a
+        // sum over the channels above 6 is a drawn pixel; at 24, box texels lit like the table
+        // under the camera response were missed and the centroid moved by 3.4 px.
         double sx = 0, sy = 0, n = 0;
         for (int y = 0; y < rendered.height; ++y)
             for (int x = 0; x < rendered.width; ++x) {
                 int diff = 0;
                 for (int c = 0; c < 3; ++c)
                     diff += std::abs(int(rendered.at(x, y)[c]) - int(raw.rgb.at(x, y)[c]));
-                if (diff > 24) {
+                if (diff > 6) {
                     sx += x;
                     sy += y;
                     n += 1;
