@@ -130,7 +130,7 @@ TEST_F(RenderEndToEnd, ModelAppearsWhereGroundTruthPutsIt)
         ASSERT_EQ(rendered.width, raw.rgb.width);
         ASSERT_EQ(rendered.height, raw.rgb.height);
         // The model's silhouette: pixels that differ from the camera image. Untouched pixels
-        // equal it within 1 code value per channel (UntouchedPixelsAreTheCameraImage), so a
+        // equal it exactly (UntouchedPixelsAreTheCameraImage), so a
         // sum over the channels above 6 is a drawn pixel; at 24, box texels lit like the table
         // under the camera response were missed and the centroid moved by 3.4 px.
         double sx = 0, sy = 0, n = 0;
