@@ -203,7 +203,7 @@ bool sameRendererSetup(const Config& running, const Config& next)
                           board.display.plane, board.display.modifiers);
     };
     const auto shadows = [](const Config& c) {
-        return std::tuple(c.shadows.enabled, c.shadows.mapSize, c.shadows.softness);
+        return std::tuple(c.shadows.enabled, c.shadows.mapSize, c.shadows.softness, c.shadows.resolution);
     };
     return running.rendering == next.rendering && shadows(running) == shadows(next) &&
            display(running) == display(next);
@@ -232,6 +232,9 @@ RenderOptions renderOptionsFor(const Config& config)
     options.shadows.enabled = config.shadows.enabled;
     options.shadows.mapSize = config.shadows.mapSize;
     options.shadows.softness = float(config.shadows.softness);
+    options.shadows.receiverScale = config.shadows.resolution == "full"      ? 1
+                                    : config.shadows.resolution == "quarter" ? 4
+                                                                             : 2;
     maps.phantomsShowCamera = rendering.phantomsShowCamera;
     return options;
 }

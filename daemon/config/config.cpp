@@ -508,6 +508,7 @@ void readShadows(TableReader& root, ShadowsConfig& shadows)
     if ((shadows.mapSize & (shadows.mapSize - 1)) != 0)
         r.fail(r.node("map_size"), "map_size", std::to_string(shadows.mapSize) + " is not a power of two");
     r.number("softness", shadows.softness, 0.0, 16.0);
+    r.oneOf("resolution", shadows.resolution, {"full", "half", "quarter"});
     r.boolean("ground", shadows.ground);
     r.finish();
 }

@@ -203,8 +203,11 @@ struct ShadowsConfig {
     bool enabled = true;
     int mapSize = 1024;    // shadow-map texels per side, a power of two 256..4096
     double softness = 1.5; // PCF kernel radius, shadow-map texels
-    bool ground = true;    // a receiver-only plane on the marker's plane under objects that stand
-                           // on no phantom, so their shadows and contact darkening show on the table
+    // Resolution the darkening of the real surfaces is shaded at: "full", "half" or "quarter"
+    // of the frame's width and height (half costs a quarter of full; the edges blur a pixel).
+    std::string resolution = "half";
+    bool ground = true; // a receiver-only plane on the marker's plane under objects that stand
+                        // on no phantom, so their shadows and contact darkening show on the table
     bool operator==(const ShadowsConfig&) const = default;
 };
 

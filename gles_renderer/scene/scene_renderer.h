@@ -55,6 +55,9 @@ struct ShadowOptions {
     bool enabled = false;
     int mapSize = 1024;    // texels per side
     float softness = 1.5f; // PCF kernel radius, texels (0: the bilinear 2x2 comparison alone)
+    // Frame pixels per texel, along x and y, of the buffer the real surfaces' darkening is
+    // shaded in (1, 2 or 4; ShadowPass, by its kRatioUnit, says why 2).
+    int receiverScale = 2;
 };
 
 // When the per-object environment maps are re-rendered (DESIGN.md §6.1).

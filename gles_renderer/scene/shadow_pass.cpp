@@ -109,6 +109,9 @@ ShadowPass::ShadowPass(const ShadowOptions& options)
         if (size_ < 1 || size_ > maxSize)
             throw InputError("shadow map size " + std::to_string(size_) + " is outside 1.." + std::to_string(maxSize) +
                              " (GL_MAX_TEXTURE_SIZE)");
+        if (options_.receiverScale != 1 && options_.receiverScale != 2 && options_.receiverScale != 4)
+            throw InputError("the shadows' receiver scale must be 1, 2 or 4, got " +
+                             std::to_string(options_.receiverScale));
         if (!(options_.softness >= 0.0f && options_.softness <= 64.0f))
             throw InputError("shadow softness must be in [0, 64] texels, got " + std::to_string(options_.softness));
     }
@@ -163,6 +166,51 @@ void ShadowPass::linkReceiverPrograms()
     glUseProgram(receiverProgram_.name());
     glUniform1i(uniformLocation(receiverProgram_, "uDiffuseMap"), GLint(MeshPass::kDiffuseMapUnit));
     glUniform1i(uniformLocation(receiverProgram_, "uShadowMap"), GLint(MeshPass::kShadowMapUnit));
+}
+
+void ShadowPass::linkApplyProgram()
+{
+    if (applyProgram_)
+        return;
+    applyProgram_ = linkProgram(kShadowApplyProgram);
+    applyRatioFromFragCoordLocation_ = uniformLocation(applyProgram_, "uRatioFromFragCoord");
+    glUseProgram(applyProgram_.name());
+    glUniform1i(uniformLocation(applyProgram_, "uRatio"), GLint(kRatioUnit));
+    emptyVertexArray_ = GlVertexArray::create();
+}
+
+void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
+{
+    if (ratio_.framebuffer && ratio_.frameWidth == frameWidth && ratio_.frameHeight == frameHeight)
+        return;
+    // The buffer's texels must tile the frame exactly (its viewport maps the same clip space):
+    // a frame whose size the scale does not divide is shaded at the next finer one that does.
+    int scale = options_.receiverScale;
+    while (scale > 1 && (frameWidth % scale != 0 || frameHeight % scale != 0))
+        scale /= 2;
+    RatioBuffer buffer;
+    buffer.frameWidth = frameWidth;
+    buffer.frameHeight = frameHeight;
+    buffer.scale = scale;
+    const int width = frameWidth / scale, height = frameHeight / scale;
+    buffer.colour = GlTexture::create();
+    glBindTexture(GL_TEXTURE_2D, buffer.colour.name());
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    buffer.depth = GlRenderbuffer::create();
+    glBindRenderbuffer(GL_RENDERBUFFER, buffer.depth.name());
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    buffer.framebuffer = GlFramebuffer::create();
+    glBindFramebuffer(GL_FRAMEBUFFER, buffer.framebuffer.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, buffer.colour.name(), 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffer.depth.name());
+    checkFramebufferComplete("shadow darkening buffer");
+    checkGlError("creating the shadow darkening buffer");
+    ratio_ = std::move(buffer);
 }
 
 void ShadowPass::setLight(const DirectionalLight& light)
@@ -445,6 +493,13 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     if (!enabled() || std::none_of(items.begin(), items.end(), [](const DrawItem& i) { return i.phantom; }))
         return;
     linkReceiverPrograms();
+    linkApplyProgram();
+    GLint frameFramebuffer = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &frameFramebuffer);
+    GLint viewport[4] = {};
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    prepareRatioBuffer(viewport[2], viewport[3]);
+
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
@@ -487,19 +542,29 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     };
 
     glEnable(GL_DEPTH_TEST);
-    // 1. The phantoms' depth (a program with the same vertex shader, whose gl_Position is
-    //    declared invariant: the second pass meets exactly these depths).
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+    // 1. The phantoms' depth in the frame: real surfaces hide the virtual objects drawn next.
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     drawItems(false, true, false);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    // Only where something can darken, drawn once per rectangle of a disjoint cover of those
-    // places: elsewhere the ratio is exactly 1 and the pixels stay as they are. (A table
-    // phantom fills most of the frame, the shadows and contacts a part of it: on llvmpipe,
-    // 2 loaded cores, a shaded pass over the car scene's whole table took about 150 ms at
-    // 1280x720 even with a shader that returned at once.)
-    const std::vector<PixelRect> rects = darkenedRects(frame, models, items);
+
+    // 2. The darkening, into the ratio buffer: the phantoms' depth again at its resolution (a
+    //    program with the same vertex shader, whose gl_Position is declared invariant: the
+    //    shading below meets exactly these depths), then the shading, only where something
+    //    can darken, once per rectangle of a disjoint cover of those places: elsewhere the
+    //    ratio is exactly 1. (A table phantom fills most of the frame, the shadows and contacts
+    //    a part of it.)
+    glBindFramebuffer(GL_FRAMEBUFFER, ratio_.framebuffer.name());
+    glViewport(0, 0, ratio_.frameWidth / ratio_.scale, ratio_.frameHeight / ratio_.scale);
+    const GLfloat one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glClearBufferfv(GL_COLOR, 0, one);
+    const GLfloat far = 1.0f;
+    glClearBufferfv(GL_DEPTH, 0, &far);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    drawItems(false, true, false);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    const std::vector<PixelRect> rects = darkenedRects(frame, models, items); // in the buffer's texels
     if (!rects.empty()) {
         glEnable(GL_SCISSOR_TEST);
         glDepthMask(GL_FALSE);
@@ -507,16 +572,38 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
         for (const PixelRect& rect : rects) {
             glScissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
-            // 2. The phantoms' darkening, once per pixel: only the nearest surface passes GL_EQUAL.
+            // The phantoms' darkening, once per texel: only the nearest surface passes GL_EQUAL.
             glDepthFunc(GL_EQUAL);
             drawItems(false, true, true);
-            // 3. The receiver-only surfaces where no phantom is in front, seen from either side.
+            // The receiver-only surfaces where no phantom is in front, seen from either side.
             glDepthFunc(GL_LESS);
             drawItems(true, false, true);
         }
+
+        // 3. The frame times the darkening, over the same rectangles.
+        glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
+        glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_CULL_FACE);
+        glUseProgram(applyProgram_.name());
+        glUniform2f(applyRatioFromFragCoordLocation_, 1.0f / float(ratio_.frameWidth),
+                    1.0f / float(ratio_.frameHeight));
+        glActiveTexture(GL_TEXTURE0 + kRatioUnit);
+        glBindTexture(GL_TEXTURE_2D, ratio_.colour.name());
+        glBindVertexArray(emptyVertexArray_.name());
+        const int s = ratio_.scale;
+        for (const PixelRect& rect : rects) {
+            glScissor(viewport[0] + rect.x0 * s, viewport[1] + rect.y0 * s, (rect.x1 - rect.x0) * s,
+                      (rect.y1 - rect.y0) * s);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
+        glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);
         glDisable(GL_SCISSOR_TEST);
+        glEnable(GL_DEPTH_TEST);
     }
+    glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glBindVertexArray(0);

@@ -5,6 +5,7 @@
 // uniform environment, over a uniform grey camera image.
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -170,6 +171,48 @@ TEST(Shadows, AFloatingBoxShadowsTheGroundPhantomByTheLightsShare)
             }
         }
     EXPECT_EQ(unchanged, total);
+}
+
+// The darkening is shaded at a fraction of the frame's resolution (ShadowOptions::receiverScale)
+// and filtered up: at full, half and quarter resolution the umbra keeps its value, the shadow its
+// place and size, and the pixels outside it stay exactly the camera's. (200 x 150 is not a
+// multiple of 4: quarter falls back to half, which must give half's image.)
+TEST(Shadows, EveryReceiverResolutionGivesTheSameShadow)
+{
+    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
+    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
+    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    std::vector<Image8> images;
+    for (int scale : {1, 2, 4}) {
+        RenderOptions options = shadowsOn();
+        options.shadows.receiverScale = scale;
+        LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
+        prepare(renderer, 1.0f);
+        renderer.setLight(light(towardsLight, 2.0f));
+        const ModelId cube = renderer.addModel(makeCube());
+        const DrawItem items[] = {groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+        images.push_back(renderOverGrey(renderer, items));
+        EXPECT_NEAR(code(images.back(), pixelOf(shadowCentre)), expected, 3.0) << "scale " << scale;
+    }
+    int fullCount = 0;
+    const glm::dvec2 fullCentroid = darkCentroid(images[0], &fullCount);
+    ASSERT_GT(fullCount, 200);
+    int halfCount = 0;
+    const glm::dvec2 halfCentroid = darkCentroid(images[1], &halfCount);
+    EXPECT_NEAR(halfCentroid.x, fullCentroid.x, 1.0);
+    EXPECT_NEAR(halfCentroid.y, fullCentroid.y, 1.0);
+    EXPECT_NEAR(double(halfCount) / fullCount, 1.0, 0.1);
+    int differing = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            ASSERT_EQ(images[2].at(x, y)[1], images[1].at(x, y)[1])
+                << "quarter falls back to half at " << x << "," << y;
+            if (images[0].at(x, y)[1] == kGrey) // outside the shadow at full resolution
+                differing += std::abs(images[1].at(x, y)[1] - kGrey) > 1;
+        }
+    // Only the shadow's outline, where a half-resolution texel straddles it, may darken.
+    EXPECT_LT(differing, 2 * kHeight) << "pixels outside the shadow darkened at half resolution";
 }
 
 TEST(Shadows, TheShadowMovesWithTheLight)

@@ -18,18 +18,21 @@ TEST_F(ShadowsConfigTest, Defaults)
     EXPECT_EQ(c.shadows.mapSize, 1024);
     EXPECT_DOUBLE_EQ(c.shadows.softness, 1.5);
     EXPECT_TRUE(c.shadows.ground);
+    EXPECT_EQ(c.shadows.resolution, "half");
 }
 
 TEST_F(ShadowsConfigTest, Values)
 {
-    const Config c = parse("[shadows]\nenabled = false\nmap_size = 2048\nsoftness = 3\nground = false\n"
-                           "[[lights]]\ntype = \"directional\"\ndirection = [0, 3, 4]\ncolor = [1, 0.5, 0.25]\n"
-                           "intensity = 2.5\nshadow = false\n"
-                           "[[lights]]\ndirection = [1, 0, 0]\n");
+    const Config c =
+        parse("[shadows]\nenabled = false\nmap_size = 2048\nsoftness = 3\nground = false\nresolution = \"quarter\"\n"
+              "[[lights]]\ntype = \"directional\"\ndirection = [0, 3, 4]\ncolor = [1, 0.5, 0.25]\n"
+              "intensity = 2.5\nshadow = false\n"
+              "[[lights]]\ndirection = [1, 0, 0]\n");
     EXPECT_FALSE(c.shadows.enabled);
     EXPECT_EQ(c.shadows.mapSize, 2048);
     EXPECT_DOUBLE_EQ(c.shadows.softness, 3.0);
     EXPECT_FALSE(c.shadows.ground);
+    EXPECT_EQ(c.shadows.resolution, "quarter");
     ASSERT_EQ(c.lights.size(), 2u);
     EXPECT_EQ(c.lights[0].type, "directional");
     EXPECT_NEAR(c.lights[0].direction.y, 0.6, 1e-12); // normalised
@@ -50,6 +53,8 @@ TEST_F(ShadowsConfigTest, BadShadowKeysNameTheLine)
     expectError("[shadows]\nsoftness = -1\n", "test.toml:2: shadows.softness:");
     expectError("[shadows]\nenabled = 1\n", "test.toml:2: shadows.enabled:");
     expectError("[shadows]\nground = \"yes\"\n", "test.toml:2: shadows.ground:");
+    expectError("[shadows]\nresolution = \"double\"\n", "test.toml:2: shadows.resolution:");
+    expectError("[shadows]\nresolution = 2\n", "test.toml:2: shadows.resolution:");
     expectError("[shadows]\nbias = 0.1\n", "test.toml:2: shadows.bias: unknown key");
 }
 
