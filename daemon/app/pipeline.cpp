@@ -6,12 +6,15 @@
 #include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <malloc.h>
 
 #include "capture/factory/capture_factory.h"
 #include "capture/prefetching_source.h"
+#include "capture/replay_source.h"
 #include "core/environment_frame.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/monotonic_clock.h"
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/environment_map.h"
 #include "gles_renderer/assets/gltf_model.h"
@@ -239,11 +242,21 @@ RenderOptions renderOptionsFor(const Config& config)
     return options;
 }
 
-Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
+Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int replayFrames)
     : config_(config), profile_(profile), window_(window)
 {
+    // Constructed first, so destroyed last: once the loaded models and maps below are freed.
+    struct ReleaseWhenLoaded {
+        ~ReleaseWhenLoaded() { releaseLoadingMemory(); }
+    } releaseWhenLoaded;
     filterSettings_ = filterSettingsFor(config_.tracking);
-    capture_ = std::make_unique<PrefetchingSource>(openCaptureSource(withConversionDecided(config_.camera, config_)));
+    std::unique_ptr<CaptureSource> source = openCaptureSource(withConversionDecided(config_.camera, config_));
+    // Frames served from memory take a copy (about 1 ms at 720p): not worth a thread, and
+    // served just when asked for they carry no wait in a hand-over slot into the latency.
+    if (replayFrames > 0)
+        capture_ = std::make_unique<ReplaySource>(std::move(source), replayFrames);
+    else
+        capture_ = std::make_unique<PrefetchingSource>(std::move(source));
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = makeTracker(config_, intrinsics_);
 
@@ -260,6 +273,16 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window)
     applyLight();
     renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(models);
+}
+
+void Pipeline::releaseLoadingMemory()
+{
+    // Loading frees tens of MB of transient buffers (decoded textures, file bytes, upload
+    // copies) that glibc keeps in its heaps: freeing an mmapped block raises malloc's mmap
+    // threshold, so later large blocks land on the heap and stay resident after free. Handing
+    // the free pages back once here costs nothing per frame (issue 18: with the threshold held
+    // fixed instead, the car scene's resident memory fell from 257 to 219–226 MB).
+    (void)malloc_trim(0);
 }
 
 void Pipeline::applyLight()
@@ -404,6 +427,10 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
     renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(prepared.models);
     summary.modelsAfter = objects_.size();
+    {
+        const PreparedReload spent = std::move(prepared); // the loaded models and map, freed here
+    }
+    releaseLoadingMemory();
     return summary;
 }
 
@@ -516,10 +543,20 @@ bool Pipeline::step(FrameReport& report)
     // On a display the frame goes to the screen without leaving the GPU; otherwise it is
     // read back for the headless sink.
     start = std::chrono::steady_clock::now();
-    if (window_)
+    report.latencyMs.reset();
+    if (window_) {
         renderer_->present(*window_);
-    else
+        if (const auto shown = window_->presentedDuringLastSwap()) {
+            const int64_t capturedNs = shown->swapsAgo == 0 ? frame_.capturedNs : previousCapturedNs_;
+            if (capturedNs != 0 && shown->swapsAgo <= 1)
+                report.latencyMs = double(shown->shownNs - capturedNs) * 1e-6;
+        }
+        previousCapturedNs_ = frame_.capturedNs;
+    } else {
         renderer_->readback(output_);
+        if (frame_.capturedNs != 0)
+            report.latencyMs = double(monotonicClockNs() - frame_.capturedNs) * 1e-6;
+    }
     report.times.readbackMs = millisecondsSince(start);
     const double latencyMs = report.times.renderMs + report.times.readbackMs;
     displayLatencyMs_ = displayLatencyMs_ > 0.0 ? 0.9 * displayLatencyMs_ + 0.1 * latencyMs : latencyMs;

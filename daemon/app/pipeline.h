@@ -43,6 +43,11 @@ struct FrameReport {
     std::vector<MapDetection> maps;
     int objectsDrawn = 0;
     StageTimes times;
+    // Capture-to-present latency of the newest frame known to have been presented during
+    // this step: from its capture (Frame::capturedNs) to its readback done (headless) or its
+    // page flip (KMS, whose flip of the previous frame completes while this one is queued);
+    // nullopt where nothing was known presented (the first KMS frame).
+    std::optional<double> latencyMs;
 };
 
 // The renderer's options for `config`: its [rendering] with the board's GL quirks deciding
@@ -56,7 +61,9 @@ public:
     // `profile`: the renderer times its stages (waiting for the GPU between them), for bench.
     // `window`: present every frame there (a KMS display, which outlives the pipeline) instead
     // of reading it back; output() then stays empty.
-    explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr);
+    // `replayFrames` > 0: that many frames are captured before the first step and served
+    // from memory (capture/replay_source.h), as `lumar bench --replay` measures.
+    explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr, int replayFrames = 0);
     [[nodiscard]] RenderStats renderStats() const;
     ~Pipeline();
     Pipeline(const Pipeline&) = delete;
@@ -100,6 +107,7 @@ public:
     [[nodiscard]] const Frame& cameraFrame() const { return frame_; }
     [[nodiscard]] const CameraIntrinsics& intrinsics() const { return intrinsics_; }
     [[nodiscard]] double fps() const { return capture_->fps(); }
+    [[nodiscard]] const CaptureSource& captureSource() const { return *capture_; }
 
 private:
     struct PlacedObject {
@@ -128,6 +136,8 @@ private:
     // Maps share markers_ (and its filtering) under keys no tag id can take.
     static int mapKey(int mapIndex) { return -1 - mapIndex; }
     void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
+    // Returns the free pages loading left in malloc's heaps to the system.
+    static void releaseLoadingMemory();
 
     Config config_;
     bool profile_ = false;
@@ -155,6 +165,7 @@ private:
     // The camera image's brightness against its first frames' ([environment] match_exposure).
     ExposureMeter exposureMeter_;
     Frame frame_;
+    int64_t previousCapturedNs_ = 0; // the frame presented before frame_ (KMS latency)
     Image8 output_;
 };
 

@@ -12,17 +12,21 @@ namespace lumar {
 std::string statusJson(const RunStatus& s)
 {
     const auto milliseconds = [](const std::optional<double>& ms) { return ms ? jsonDecimals(*ms, 1) : Json(nullptr); };
-    const Json status = {{"state", "running"},
-                         {"fps", jsonDecimals(s.fps, 2)},
-                         {"frames", s.frames},
-                         {"frames_with_markers", s.framesWithMarkers},
-                         {"objects_drawn", s.objectsDrawn},
-                         {"uptime_s", jsonDecimals(s.uptimeS, 1)},
-                         {"startup_ms", milliseconds(s.startupMs)},
-                         {"last_reload_ms", milliseconds(s.lastReloadMs)},
-                         {"markers_visible", s.markersVisible},
-                         {"camera", s.camera},
-                         {"config", s.config}};
+    const Json status = {
+        {"state", "running"},
+        {"fps", jsonDecimals(s.fps, 2)},
+        {"frames", s.frames},
+        {"frames_with_markers", s.framesWithMarkers},
+        {"objects_drawn", s.objectsDrawn},
+        {"uptime_s", jsonDecimals(s.uptimeS, 1)},
+        {"startup_ms", milliseconds(s.startupMs)},
+        {"last_reload_ms", milliseconds(s.lastReloadMs)},
+        {"latency_ms", s.latencyP50Ms && s.latencyP99Ms
+                           ? Json{{"p50", jsonDecimals(*s.latencyP50Ms, 1)}, {"p99", jsonDecimals(*s.latencyP99Ms, 1)}}
+                           : Json(nullptr)},
+        {"markers_visible", s.markersVisible},
+        {"camera", s.camera},
+        {"config", s.config}};
     return jsonLine(status) + "\n";
 }
 

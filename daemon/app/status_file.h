@@ -22,6 +22,9 @@ struct RunStatus {
     // trigger (signal or file event) to the new configuration applied. null until known.
     std::optional<double> startupMs;
     std::optional<double> lastReloadMs;
+    // Capture-to-present latency over the latest frames (LatencyWindow); null until known.
+    std::optional<double> latencyP50Ms;
+    std::optional<double> latencyP99Ms;
 };
 
 std::string statusJson(const RunStatus& status);

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "core/monotonic_clock.h"
+
 namespace lumar {
 
 PrefetchingSource::PrefetchingSource(std::unique_ptr<CaptureSource> inner)
@@ -27,7 +29,11 @@ void PrefetchingSource::produce()
         bool gotFrame = false;
         std::exception_ptr error;
         try {
+            work.capturedNs = 0;
             gotFrame = inner_->next(work);
+            // A source without a camera clock (fake, files) captured the frame just now.
+            if (gotFrame && work.capturedNs == 0)
+                work.capturedNs = monotonicClockNs();
         } catch (...) {
             error = std::current_exception();
         }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/replay_source.h"
 #include "commands.h"
 #include "config/config.h"
 #include "core/error.h"
@@ -34,17 +35,27 @@ double mean(const std::vector<double>& values)
     return values.empty() ? 0.0 : sum / double(values.size());
 }
 
-// Resident set size in MiB, from /proc (0 where unavailable).
-double residentMegabytes()
+// A /proc/self/status field in MiB (VmRSS: resident now, VmHWM: the peak); 0 where unavailable.
+double statusMegabytes(const std::string& field)
 {
     std::ifstream status("/proc/self/status");
     std::string line;
     while (std::getline(status, line)) {
-        if (line.rfind("VmRSS:", 0) == 0)
-            return std::stod(line.substr(6)) / 1024.0;
+        if (line.starts_with(field))
+            return std::stod(line.substr(field.size())) / 1024.0;
     }
     return 0.0;
 }
+double residentMegabytes()
+{
+    return statusMegabytes("VmRSS:");
+}
+double peakResidentMegabytes()
+{
+    return statusMegabytes("VmHWM:");
+}
+
+constexpr double kMegabyte = 1024.0 * 1024.0;
 
 } // namespace
 
@@ -60,7 +71,8 @@ int benchCommand(const BenchCommandOptions& options)
             throw InputError("--environment-source camera+hdr: the configuration names no [environment] hdr");
     }
     const bool profile = !options.noProfile;
-    Pipeline pipeline(config, profile);
+    Pipeline pipeline(config, profile, nullptr, options.replay ? int(options.replayFrames) : 0);
+    const auto* replay = dynamic_cast<const ReplaySource*>(&pipeline.captureSource());
     // As the daemon runs: detection on its own thread, never waited for.
     if (!options.syncDetection)
         pipeline.detectInBackground();
@@ -69,10 +81,10 @@ int benchCommand(const BenchCommandOptions& options)
         if (!pipeline.step(report))
             throw InputError("the camera source ended during warm-up");
 
-    std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs;
+    std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs, latencyMs;
     std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, environmentCaptureMs, mapsUpdated;
-    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &environmentMapsMs, &shMs, &prefilterMs,
-                    &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated})
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &environmentMapsMs, &shMs,
+                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -85,6 +97,8 @@ int benchCommand(const BenchCommandOptions& options)
         detectMs.push_back(report.times.detectMs);
         renderMs.push_back(report.times.renderMs);
         readbackMs.push_back(report.times.readbackMs);
+        if (report.latencyMs)
+            latencyMs.push_back(*report.latencyMs);
         const RenderStats stats = pipeline.renderStats();
         environmentMapsMs.push_back(stats.environmentMapsMs);
         shMs.push_back(stats.shMs);
@@ -98,6 +112,10 @@ int benchCommand(const BenchCommandOptions& options)
     const double seconds = std::chrono::duration<double>(last - start).count();
     const double fps = seconds > 0 ? double(measured) / seconds : 0.0;
     const int width = pipeline.output().width, height = pipeline.output().height;
+    // The camera the figures are for: live (drawn or decoded while timed) or replayed from memory.
+    const std::string source = replay ? "replay" : "live";
+    const double replayMegabytes = replay ? double(replay->bytesHeld()) / kMegabyte : 0.0;
+    const double latencyP50 = percentile(latencyMs, 0.5), latencyP99 = percentile(latencyMs, 0.99);
 
     if (options.json) {
         Json stages = {{"capture", jsonDecimals(mean(captureMs), 3)},
@@ -113,20 +131,33 @@ int benchCommand(const BenchCommandOptions& options)
             stages["environment_capture"] = jsonDecimals(mean(environmentCaptureMs), 3);
         }
         const Json summary = {
+            {"source", source},
+            {"camera", config.camera.source},
+            {"replay",
+             replay ? Json{{"frames", replay->framesHeld()}, {"mb", jsonDecimals(replayMegabytes, 1)}} : Json(nullptr)},
             {"frames", measured},
             {"width", width},
             {"height", height},
             {"fps", jsonDecimals(fps, 2)},
             {"frame_ms",
              {{"p50", jsonDecimals(percentile(frameMs, 0.5), 3)}, {"p99", jsonDecimals(percentile(frameMs, 0.99), 3)}}},
+            {"latency_ms", latencyMs.empty()
+                               ? Json(nullptr)
+                               : Json{{"p50", jsonDecimals(latencyP50, 3)}, {"p99", jsonDecimals(latencyP99, 3)}}},
             {"stages_ms", std::move(stages)},
             {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
             {"profiled", profile},
-            {"rss_mb", jsonDecimals(residentMegabytes(), 1)}};
+            {"rss_mb", jsonDecimals(residentMegabytes(), 1)},
+            {"peak_rss_mb", jsonDecimals(peakResidentMegabytes(), 1)}};
         std::printf("%s\n", jsonLine(summary).c_str());
     } else {
-        std::printf("%ld frames at %dx%d: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms, resident %.0f MiB\n", measured,
-                    width, height, fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99), residentMegabytes());
+        std::printf("%ld frames at %dx%d, %s camera: %.1f fps, frame time p50 %.2f ms, p99 %.2f ms\n", measured, width,
+                    height, source.c_str(), fps, percentile(frameMs, 0.5), percentile(frameMs, 0.99));
+        if (replay)
+            std::printf("  replay: %d frames held, %.1f MiB\n", replay->framesHeld(), replayMegabytes);
+        if (!latencyMs.empty())
+            std::printf("  capture to present: p50 %.2f ms, p99 %.2f ms\n", latencyP50, latencyP99);
+        std::printf("  resident %.0f MiB, peak %.0f MiB\n", residentMegabytes(), peakResidentMegabytes());
         std::printf("  %-9s %8s %8s %8s\n", "stage", "mean", "p50", "p99");
         const std::pair<const char*, const std::vector<double>*> stages[] = {
             {"capture", &captureMs}, {"detect", &detectMs}, {"render", &renderMs}, {"readback", &readbackMs}};

@@ -51,6 +51,8 @@ struct BenchCommandOptions {
     bool noProfile = false;
     bool syncDetection = false;
     std::string environmentSource; // overrides [environment] source when set
+    bool replay = false;           // frames captured before timing, served from memory
+    long replayFrames = 8;
 };
 
 struct ProbeCommandOptions {

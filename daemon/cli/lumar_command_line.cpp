@@ -353,6 +353,12 @@ GPU would otherwise overlap with the next stage; --no-profile measures without t
                   "(to compare the environment built from the camera with the file)")
         ->type_name("SOURCE")
         ->check(CLI::IsMember({"hdr", "camera", "camera+hdr"}));
+    addFlag(*c, "--replay", o.replay,
+            "capture --replay-frames frames before timing and serve them from memory,\n"
+            "forwards and back, as a device's camera delivers them: the fake camera's\n"
+            "own drawing is left out (without it: the live camera, \"source\": \"live\")");
+    addInteger(*c, "--replay-frames", o.replayFrames, {1, 300},
+               "frames held for --replay (default 8: 3.7 MB each at 1280x720)");
     addConfigLogLevel(*c, o.config);
     c->footer("lumar bench --tracking [options] scores the tag tracker instead (see 'lumar bench --tracking --help').");
     return {c, [&o] { return benchCommand(o); }};

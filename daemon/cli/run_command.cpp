@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "kms_sink.h"
+#include "latency_window.h"
 #include "output/frame_writer.h"
 #include "pipeline.h"
 #include "process_clock.h"
@@ -224,6 +225,7 @@ int runCommand(const RunCommandOptions& options)
     long frames = 0, framesInWindow = 0, withMarker = 0, windows = 0;
     RunStatus status;
     FrameReport report;
+    LatencyWindow latency;
     bool cameraDown = false; // since a CameraUnavailable, until the next frame
     auto statusLine = [&] {
         char line[160];
@@ -266,6 +268,8 @@ int runCommand(const RunCommandOptions& options)
         ++paceFrames;
         ++framesInWindow;
         withMarker += report.detections.empty() ? 0 : 1;
+        if (report.latencyMs)
+            latency.add(*report.latencyMs);
         status.camera = "ok";
         const auto now = Clock::now();
         scene->sink->present(scene->pipeline->output(), now);
@@ -293,6 +297,8 @@ int runCommand(const RunCommandOptions& options)
             status.frames = frames;
             status.framesWithMarkers = withMarker;
             status.objectsDrawn = report.objectsDrawn;
+            status.latencyP50Ms = latency.percentile(0.5);
+            status.latencyP99Ms = latency.percentile(0.99);
             status.markersVisible.clear();
             for (const TagDetection& d : report.detections)
                 status.markersVisible.push_back(d.id);

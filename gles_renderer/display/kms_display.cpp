@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/monotonic_clock.h"
 
 namespace lumar {
 
@@ -49,13 +50,20 @@ void KmsDisplay::showSwapped()
     const uint32_t framebuffer = next.framebuffer(drm_.fd(), modifiers_);
     // show() first waits for the flip still queued: after it the queued buffer is on screen
     // and the one it replaced goes back to GBM (the move releases it).
+    const uint64_t flipsBefore = output_->flipsCompleted();
     output_->show(framebuffer);
-    if (queued_.valid())
+    presented_.reset();
+    if (queued_.valid()) {
         shown_ = std::move(queued_);
-    if (output_->flipPending())
+        if (output_->flipsCompleted() != flipsBefore)
+            presented_ = Presentation{output_->lastFlipNs(), 1};
+    }
+    if (output_->flipPending()) {
         queued_ = std::move(next);
-    else
+    } else {
         shown_ = std::move(next); // a legacy mode-set shows the buffer at once
+        presented_ = Presentation{monotonicClockNs(), 0};
+    }
     ++framesShown_;
 }
 

@@ -47,6 +47,7 @@ public:
     [[nodiscard]] int height() const override { return output_->height(); }
     [[nodiscard]] bool finishBeforeSwap() const override { return finishBeforeFlip_; }
     void showSwapped() override;
+    [[nodiscard]] std::optional<Presentation> presentedDuringLastSwap() const override { return presented_; }
 
     [[nodiscard]] std::string describe() const { return output_->describe(); }
     [[nodiscard]] uint64_t framesShown() const { return framesShown_; }
@@ -68,6 +69,7 @@ private:
     bool modifiers_ = true;
     bool finishBeforeFlip_ = false;
     uint64_t framesShown_ = 0;
+    std::optional<Presentation> presented_;
 };
 
 } // namespace lumar

@@ -282,12 +282,13 @@ void KmsOutput::commitLegacy(uint32_t framebuffer, bool modeset)
     flipPending_ = true;
 }
 
-void KmsOutput::onPageFlip(int /*fd*/, unsigned /*sequence*/, unsigned /*seconds*/, unsigned /*microseconds*/,
-                           void* data)
+void KmsOutput::onPageFlip(int /*fd*/, unsigned /*sequence*/, unsigned seconds, unsigned microseconds, void* data)
 {
     auto* output = static_cast<KmsOutput*>(data);
     output->flipPending_ = false;
     ++output->flipsCompleted_;
+    // DRM stamps events on CLOCK_MONOTONIC (DRM_CAP_TIMESTAMP_MONOTONIC, the only clock left).
+    output->lastFlipNs_ = int64_t(seconds) * 1'000'000'000 + int64_t(microseconds) * 1000;
 }
 
 bool KmsOutput::waitForFlip(int timeoutMs)

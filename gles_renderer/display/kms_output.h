@@ -59,6 +59,8 @@ public:
     bool waitForFlip(int timeoutMs);
     [[nodiscard]] bool flipPending() const { return flipPending_; }
     [[nodiscard]] uint64_t flipsCompleted() const { return flipsCompleted_; }
+    // When the latest completed flip took effect (CLOCK_MONOTONIC ns, the event's timestamp).
+    [[nodiscard]] int64_t lastFlipNs() const { return lastFlipNs_; }
 
 private:
     void chooseConnectorAndMode(const KmsPreferences& preferences);
@@ -78,6 +80,7 @@ private:
     bool modeSet_ = false;
     bool flipPending_ = false;
     uint64_t flipsCompleted_ = 0;
+    int64_t lastFlipNs_ = 0;
     struct {
         uint32_t connectorCrtcId = 0, crtcModeId = 0, crtcActive = 0;
         uint32_t planeFbId = 0, planeCrtcId = 0, planeSrcX = 0, planeSrcY = 0, planeSrcW = 0, planeSrcH = 0;

@@ -2,7 +2,9 @@
 // renderer's display and what follows the swap (a KMS page flip). DESIGN.md §3 DisplaySink.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 
 #include <EGL/egl.h>
 
@@ -23,6 +25,16 @@ public:
     [[nodiscard]] virtual bool finishBeforeSwap() const { return false; }
     // Called after eglSwapBuffers: shows the new front buffer. Throws RuntimeError.
     virtual void showSwapped() = 0;
+
+    // A frame that reached the screen during the latest showSwapped(), for capture-to-present
+    // latency: when it appeared (CLOCK_MONOTONIC, a KMS page flip's event time) and how many
+    // swaps before the latest it was handed over (0: that swap's own frame; 1: the one before,
+    // whose flip completed while this one was queued). nullopt: none, or the target cannot tell.
+    struct Presentation {
+        int64_t shownNs = 0;
+        int swapsAgo = 0;
+    };
+    [[nodiscard]] virtual std::optional<Presentation> presentedDuringLastSwap() const { return std::nullopt; }
 };
 
 } // namespace lumar

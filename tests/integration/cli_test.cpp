@@ -159,6 +159,37 @@ TEST(Cli, BenchPrintsItsJsonReport)
     for (const char* stage : {"capture", "detect", "render", "readback"})
         EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
     EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
+    EXPECT_GE(j["peak_rss_mb"].get<double>(), j["rss_mb"].get<double>());
+    EXPECT_EQ(j["source"], "live");
+    EXPECT_TRUE(j["replay"].is_null());
+    // Capture to readback: each frame's latency covers at least its own render.
+    ASSERT_TRUE(j["latency_ms"].is_object()) << r.out;
+    EXPECT_GT(j["latency_ms"]["p50"].get<double>(), 0.0);
+    EXPECT_LE(j["latency_ms"]["p50"].get<double>(), j["latency_ms"]["p99"].get<double>());
+}
+
+TEST(Cli, BenchReplaysFramesFromMemory)
+{
+    const auto dir = test::scratchDirectory("bench_replay");
+    std::ofstream(dir / "scene.toml") << sceneWith(kBox, kHdr);
+    const auto r = runLumar({"bench", "--config", (dir / "scene.toml").string(), "--frames", "4", "--warmup", "1",
+                             "--replay", "--replay-frames", "2", "--json", "--log-level", "warn"},
+                            dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["source"], "replay");
+    EXPECT_EQ(j["camera"], "fake");
+    EXPECT_EQ(j["replay"]["frames"], 2);
+    EXPECT_GT(j["replay"]["mb"].get<double>(), 0.0);
+    EXPECT_EQ(j["frames"], 4);
+    ASSERT_TRUE(j["latency_ms"].is_object()) << r.out;
+    EXPECT_GT(j["latency_ms"]["p50"].get<double>(), 0.0);
+    EXPECT_LE(j["latency_ms"]["p50"].get<double>(), j["latency_ms"]["p99"].get<double>());
+    EXPECT_LE(j["latency_ms"]["p99"].get<double>(), 60'000.0) << "a minute would be a stale clock";
+    // A replay length out of range is a usage error with one line.
+    const auto bad = runLumar({"bench", "--replay", "--replay-frames", "0"}, dir);
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+    EXPECT_NE(bad.err.find("--replay-frames"), std::string::npos) << bad.err;
 }
 
 TEST(Cli, BenchTrackingPrintsATableAndJson)

@@ -424,6 +424,7 @@ bool LibcameraSource::next(Frame& frame)
         frame.timestampNs = sensorNs                  ? *sensorNs
                             : metadata.timestamp != 0 ? int64_t(metadata.timestamp)
                                                       : monotonicNowNs();
+        frame.capturedNs = frame.timestampNs;
         if (lend) {
             lent_.push_back({request, &mapped->second}); // queued again once no frame holds it
         } else {

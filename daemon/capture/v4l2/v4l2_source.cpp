@@ -450,6 +450,7 @@ bool V4l2Source::next(Frame& frame)
     frame.timestampNs =
         monotonic ? int64_t(buffer.timestamp.tv_sec) * 1'000'000'000 + int64_t(buffer.timestamp.tv_usec) * 1000
                   : monotonicNowNs();
+    frame.capturedNs = frame.timestampNs;
     return true;
 }
 

@@ -41,9 +41,20 @@ TEST(StatusFile, OneLineWhoseFieldsParseBackWithTheirTypes)
     EXPECT_NEAR(j["uptime_s"].get<double>(), 12.3, 1e-12);
     EXPECT_NEAR(j["startup_ms"].get<double>(), 812.3, 1e-12);
     EXPECT_TRUE(j["last_reload_ms"].is_null()) << "not known yet";
+    EXPECT_TRUE(j["latency_ms"].is_null()) << "not known yet";
     EXPECT_EQ(j["markers_visible"], nlohmann::json::array({0, 5}));
     EXPECT_EQ(j["camera"], "ok");
     EXPECT_EQ(j["config"], "ok");
+}
+
+TEST(StatusFile, LatencyPercentilesOnceKnown)
+{
+    RunStatus s = aStatus();
+    s.latencyP50Ms = 41.26;
+    s.latencyP99Ms = 58.04;
+    const auto j = nlohmann::json::parse(statusJson(s));
+    EXPECT_NEAR(j["latency_ms"]["p50"].get<double>(), 41.3, 1e-12);
+    EXPECT_NEAR(j["latency_ms"]["p99"].get<double>(), 58.0, 1e-12);
 }
 
 TEST(StatusFile, ReasonsWithQuotesControlsAndInvalidUtf8AreValidJson)

@@ -69,6 +69,7 @@ TEST(PrefetchingSource, SameBytesAsTheFakeCameraItself)
         EXPECT_EQ(a.timestampNs, b.timestampNs);
         EXPECT_EQ(a.rgb.data, b.rgb.data);
         EXPECT_EQ(a.luma.data, b.luma.data);
+        EXPECT_GT(b.capturedNs, 0) << "a frame without a camera clock is stamped when made";
     }
 }
 
