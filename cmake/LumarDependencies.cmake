@@ -19,6 +19,10 @@ pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 # The KMS display sink: DRM/KMS modesetting (libdrm) and scan-out buffers for EGL (GBM).
 pkg_check_modules(LIBDRM REQUIRED IMPORTED_TARGET libdrm)
 pkg_check_modules(GBM REQUIRED IMPORTED_TARGET gbm)
+# The preview window (gles_renderer/window): Xlib, with EGL's X11 platform.
+pkg_check_modules(X11 REQUIRED IMPORTED_TARGET x11)
+# Printable markers (daemon/markers): PDF, SVG and PNG pages; Debian 12 has 1.16.
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
 # MJPEG cameras (decode) and the virtual camera's MJPEG output (encode); Debian 12 has 2.1.5.
 pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET libturbojpeg)
 # libcamera cameras (CSI sensors behind an ISP; UVC through its uvcvideo pipeline); Debian 12

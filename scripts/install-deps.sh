@@ -16,6 +16,8 @@ build_packages=(
   libcamera-dev
   libtomlplusplus-dev
   libcli11-dev # the command line (daemon/cli/lumar_command_line.cpp)
+  libcairo2-dev # lumar markers: PDF, SVG and PNG pages (daemon/markers)
+  libx11-dev # the preview window (gles_renderer/window), on EGL's X11 platform
   libsystemd-dev
   glslang-tools
 )
@@ -27,6 +29,8 @@ test_packages=(
   v4l-utils # v4l2-compliance and v4l2-ctl against the virtual camera
   libgtest-dev googletest
   clang-format
+  poppler-utils # pdftoppm: the markers test renders the PDF it prints
+  xvfb xauth # the preview window tests run their own X server
   qemu-system-x86 busybox-static cpio # scripts/virtual-board.sh: the virtual board system test
 )
 packages=("${build_packages[@]}")

@@ -27,7 +27,8 @@ struct RenderCommandOptions {
 
 struct RunCommandOptions {
     ConfigOptions config;
-    long frames = 0; // 0: until SIGINT or SIGTERM
+    long frames = 0;      // 0: until SIGINT or SIGTERM
+    bool preview = false; // show the frames in a desktop window ([output] sink = "window")
 };
 
 struct CheckConfigCommandOptions {
@@ -67,6 +68,20 @@ struct CalibrateCommandOptions {
     std::string logLevel = "warn";
 };
 
+struct MarkersCommandOptions {
+    std::string family = "tag36h11";
+    std::string ids;
+    double size = 0; // metres, as [[markers]] size
+    std::string out; // .pdf, .png or .svg
+    std::string page = "a4";
+    long dpi = 300;                // .png only
+    std::string board;             // ROWSxCOLS; empty: single tags
+    std::optional<double> spacing; // board: metres between borders; absent: the white rings
+    std::string mapName = "board";
+    std::optional<std::string> mapOut; // board: absent: --out with .toml
+    std::string logLevel = "warn";
+};
+
 int renderCommand(const RenderCommandOptions& options);
 int runCommand(const RunCommandOptions& options);
 int checkConfigCommand(const CheckConfigCommandOptions& options);
@@ -74,6 +89,7 @@ int detectCommand(const DetectCommandOptions& options);
 int benchCommand(const BenchCommandOptions& options);
 int probeCommand(const ProbeCommandOptions& options);
 int calibrateCommand(const CalibrateCommandOptions& options);
+int markersCommand(const MarkersCommandOptions& options);
 
 // lumar bench --tracking parses its own arguments (those after "bench").
 using Args = std::vector<std::string>;

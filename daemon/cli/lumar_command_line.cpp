@@ -244,6 +244,7 @@ struct Options {
     BenchCommandOptions bench;
     ProbeCommandOptions probe;
     CalibrateCommandOptions calibrate;
+    MarkersCommandOptions markers;
 };
 
 struct Command {
@@ -278,9 +279,13 @@ given). The output goes to the configured sink: [output] path = "x.png" keeps a 
 the newest frame (rewritten once a second, atomically), "x.y4m" records every frame; with
 sink = "kms" every frame is shown on a DRM/KMS display (the board profile's [display] and
 [output]'s drm_device, connector, plane and mode choose it), or, without a DRM device, the
-path is written instead. The display is chosen once: a reload keeps it.)");
+path is written instead; with sink = "window" (or --preview) every frame is shown in a
+desktop window on $DISPLAY, scaled to fit with its aspect kept, and closing the window stops
+the run (exit 0); without a display server the path is written instead. The display is
+chosen once: a reload keeps it.)");
     addConfigFile(*c, o.config);
     addInteger(*c, "--frames", o.frames, {0, double(1L << 40)}, "stop after N frames, 0: run until stopped");
+    addFlag(*c, "--preview", o.preview, "show the frames in a desktop window (X11), as [output] sink = \"window\"");
     addConfigLogLevel(*c, o.config);
     c->footer(R"(The configuration file is reloaded when it changes on disk (editors and mv included) or on
 SIGHUP; a file with an error is rejected with its FILE:LINE message and the last good
@@ -415,6 +420,38 @@ image_width, image_height), the format --calib reads.)");
     return {c, [&o] { return calibrateCommand(o); }};
 }
 
+Command declareMarkers(CLI::App& lumar, MarkersCommandOptions& o)
+{
+    CLI::App* c = lumar.add_subcommand(
+        "markers", R"(printable AprilTags at their exact size (PDF, PNG or SVG), and boards as [[maps]]
+
+Lays the tags out on A4 or Letter pages at their physical size: --size is the side the
+detector measures, as [[markers]] size means it (for tag36h11 the black square, border to
+border). Each tag has its id, family and size printed under it, and every page a 10 cm
+scale bar to check that the printer did not scale the page. With --board the tags form one
+multi-tag map, filled row by row from the top left, and its [[maps]] entry is written as a
+configuration file (map origin at the board's centre, x right, y up the page).)");
+    c->add_option("--family", o.family, "tag family")->type_name("NAME")->capture_default_str();
+    addRequired(*c, "--ids", o.ids, "LIST", "ids and ranges, e.g. 0-3 or 0,2,5-7");
+    addDouble(*c, "--size", o.size, {0, 10, true}, "M", "tag side in metres, black border to black border")
+        ->required()
+        ->default_str("");
+    addRequired(*c, "--out", o.out, "FILE", "file.pdf, file.png or file.svg (PNG and SVG: one file a page)");
+    c->add_option("--page", o.page, "paper: a4 or letter")->type_name("PAPER")->capture_default_str();
+    addInteger(*c, "--dpi", o.dpi, {36, 2400}, "PNG resolution in pixels per inch");
+    c->add_option("--board", o.board, "one board of ROWSxCOLS tags (a [[maps]] entry)")->type_name("ROWSxCOLS");
+    c->add_option_function<double>(
+         "--spacing", [&o](double v) { o.spacing = v; },
+         "board: metres between neighbouring tags' borders (default: their white rings)")
+        ->type_name("M");
+    c->add_option("--map-name", o.mapName, "board: the [[maps]] name")->type_name("NAME")->capture_default_str();
+    c->add_option_function<std::string>(
+         "--map-out", [&o](const std::string& v) { o.mapOut = v; }, "board: the map file (default: --out as .toml)")
+        ->type_name("FILE");
+    addLogLevel(*c, o.logLevel);
+    return {c, [&o] { return markersCommand(o); }};
+}
+
 // ---- Parsing and exit codes -------------------------------------------------------------
 
 // One line, naming the command and where its options are explained.
@@ -445,6 +482,7 @@ Run 'lumar <command> --help' for a command's options.)",
         declareBench(lumar, options.bench),
         declareProbe(lumar, options.probe),
         declareCalibrate(lumar, options.calibrate),
+        declareMarkers(lumar, options.markers),
     };
     for (const Command& command : commands) {
         command.app->group("commands");

@@ -24,6 +24,7 @@
 #include "process_clock.h"
 #include "service_notifier.h"
 #include "status_file.h"
+#include "window_sink.h"
 
 namespace lumar {
 namespace {
@@ -106,16 +107,16 @@ private:
 
 // Everything a configuration builds; updated in place by a reload that keeps the camera,
 // replaced as a whole by one that does not.
-// The KMS display (`display`) is opened once per process and outlives every scene: a reload
-// keeps its mode and plane.
+// The KMS display or the preview window (`display`) is opened once per process and outlives
+// every scene: a reload keeps its mode and plane, or the window.
 struct RunningScene {
-    KmsDisplay* display;
+    WindowTarget* display;
     std::unique_ptr<Pipeline> pipeline;
     std::unique_ptr<HeadlessSink> sink;
     StatusFile statusFile;
     OutputConfig output; // what sink and statusFile were made from
 
-    RunningScene(const Config& config, KmsDisplay* kms)
+    RunningScene(const Config& config, WindowTarget* kms)
         : display(kms), pipeline(std::make_unique<Pipeline>(config, false, kms)),
           sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps(), kms)),
           statusFile(config.output.statusPath), output(config.output)
@@ -150,7 +151,8 @@ bool reload(const std::filesystem::path& file, std::unique_ptr<RunningScene>& sc
     notifier.reloading();
     try {
         const Config config = loadConfig(file);
-        if (config.output.sink != scene->output.sink && (config.output.sink == "kms" || scene->output.sink == "kms"))
+        const auto onScreen = [](const std::string& sink) { return sink == "kms" || sink == "window"; };
+        if (config.output.sink != scene->output.sink && (onScreen(config.output.sink) || onScreen(scene->output.sink)))
             LUMAR_LOG(Output, Warn) << "output.sink changed to \"" << config.output.sink
                                     << "\": the display is chosen at start-up, restart lumar to switch";
         std::string what;
@@ -200,10 +202,14 @@ int runCommand(const RunCommandOptions& options)
 
     const Config config = configFromOptions(options.config);
     // Declared before the scene: its renderers draw on the display's EGL display.
-    std::unique_ptr<KmsDisplay> display;
-    if (config.output.sink == "kms")
-        display = openKmsDisplay(config);
-    auto scene = std::make_unique<RunningScene>(config, display.get());
+    std::unique_ptr<KmsDisplay> kms;
+    std::unique_ptr<X11Window> window;
+    if (config.output.sink == "kms" && !options.preview)
+        kms = openKmsDisplay(config);
+    else if (config.output.sink == "window" || options.preview)
+        window = openPreviewWindow(config);
+    WindowTarget* display = kms ? static_cast<WindowTarget*>(kms.get()) : window.get();
+    auto scene = std::make_unique<RunningScene>(config, display);
     const std::optional<std::string>& configFile = options.config.file;
     std::optional<ConfigWatcher> watcher;
     if (configFile)
@@ -235,7 +241,22 @@ int runCommand(const RunCommandOptions& options)
     };
     LUMAR_LOG(App, Info) << "running at " << scene->pipeline->fps() << " fps; SIGINT or SIGTERM stops, SIGHUP reloads";
 
+    std::pair<int, int> windowFrame{0, 0}; // the frame size the window was last fitted to
     while (!gStopRequested.load() && (maxFrames == 0 || frames < maxFrames)) {
+        // Closing the preview window ends the run as a stop signal does.
+        if (window) {
+            // Sized for the camera's frames at the start and after a camera change.
+            const CameraIntrinsics& frame = scene->pipeline->intrinsics();
+            if (std::pair(frame.width, frame.height) != windowFrame) {
+                windowFrame = {frame.width, frame.height};
+                window->fitFrame(frame.width, frame.height);
+            }
+            window->pollEvents();
+            if (window->closeRequested()) {
+                LUMAR_LOG(App, Info) << "the preview window was closed";
+                break;
+            }
+        }
         // Both sources are drained every frame: an edit followed by `systemctl reload` within
         // the same frame reloads once, not twice.
         const bool hangUp = gReloadRequested.exchange(false);

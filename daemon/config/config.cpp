@@ -538,7 +538,7 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     if (!table)
         return;
     TableReader r(*table, "output", ctx.fileName);
-    r.oneOf("sink", output.sink, {"headless", "kms", "none"});
+    r.oneOf("sink", output.sink, {"headless", "kms", "window", "none"});
     r.string("drm_device", output.drmDevice);
     if (output.drmDevice != "auto" && !output.drmDevice.starts_with("/dev/"))
         r.fail(table->get("drm_device"), "drm_device", "expected \"auto\" or a /dev/dri/card* path");

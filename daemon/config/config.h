@@ -223,7 +223,7 @@ struct RenderingConfig {
 };
 
 struct OutputConfig {
-    std::string sink = "headless"; // "headless" (files) | "kms" (a DRM/KMS display) | "none"
+    std::string sink = "headless"; // "headless" (files) | "kms" (a DRM/KMS display) | "window" (X11) | "none"
     // kms: the device and output; "auto"/empty take the board profile's [display] choice.
     std::string drmDevice = "auto";   // "auto" (the board's drm_drivers, else any) or /dev/dri/cardN
     std::string connector;            // e.g. "HDMI-A-1"; empty: the board's, else the first connected

@@ -23,6 +23,10 @@ public:
     // surfaces that KMS scans out. Not shared: it lives as long as its holders, who must let
     // go before the GBM device is destroyed. Throws RuntimeError.
     static std::shared_ptr<EglDisplay> gbm(void* gbmDevice);
+    // A display on the X11 platform of `xlibDisplay` (a Display*), for a desktop window
+    // (gles_renderer/window). Not shared; its holders let go before the X connection closes.
+    // Throws RuntimeError.
+    static std::shared_ptr<EglDisplay> x11(void* xlibDisplay);
 
     EglDisplay(EglDisplay&& other) noexcept;
     EglDisplay& operator=(EglDisplay&& other) noexcept;

@@ -1,0 +1,95 @@
+#include "gl/x11_viewer.h"
+
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+
+namespace lumar::test {
+namespace {
+
+Display* asDisplay(void* display)
+{
+    return static_cast<Display*>(display);
+}
+
+int shiftOf(unsigned long mask)
+{
+    return mask ? __builtin_ctzl(mask) : 0;
+}
+
+} // namespace
+
+X11Viewer::X11Viewer(const std::string& displayName) : display_(XOpenDisplay(displayName.c_str())) {}
+
+X11Viewer::~X11Viewer()
+{
+    close();
+}
+
+void X11Viewer::close()
+{
+    if (display_)
+        XCloseDisplay(asDisplay(display_));
+    display_ = nullptr;
+}
+
+unsigned long X11Viewer::findWindow(const std::string& name) const
+{
+    Display* display = asDisplay(display_);
+    Window root = 0, parent = 0, *children = nullptr;
+    unsigned count = 0;
+    Window found = 0;
+    if (!XQueryTree(display, DefaultRootWindow(display), &root, &parent, &children, &count))
+        return 0;
+    for (unsigned i = 0; i < count && !found; ++i) {
+        char* title = nullptr;
+        if (XFetchName(display, children[i], &title) && title) {
+            if (name == title)
+                found = children[i];
+            XFree(title);
+        }
+    }
+    if (children)
+        XFree(children);
+    return found;
+}
+
+std::vector<uint8_t> X11Viewer::grab(unsigned long window, int width, int height) const
+{
+    std::vector<uint8_t> rgb;
+    XImage* image =
+        XGetImage(asDisplay(display_), Window(window), 0, 0, unsigned(width), unsigned(height), AllPlanes, ZPixmap);
+    if (!image)
+        return rgb;
+    rgb.reserve(size_t(width) * size_t(height) * 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const unsigned long pixel = XGetPixel(image, x, y);
+            rgb.push_back(uint8_t((pixel & image->red_mask) >> shiftOf(image->red_mask)));
+            rgb.push_back(uint8_t((pixel & image->green_mask) >> shiftOf(image->green_mask)));
+            rgb.push_back(uint8_t((pixel & image->blue_mask) >> shiftOf(image->blue_mask)));
+        }
+    XDestroyImage(image);
+    return rgb;
+}
+
+void X11Viewer::requestClose(unsigned long window) const
+{
+    Display* display = asDisplay(display_);
+    XEvent event{};
+    event.xclient.type = ClientMessage;
+    event.xclient.window = Window(window);
+    event.xclient.message_type = XInternAtom(display, "WM_PROTOCOLS", False);
+    event.xclient.format = 32;
+    event.xclient.data.l[0] = long(XInternAtom(display, "WM_DELETE_WINDOW", False));
+    event.xclient.data.l[1] = CurrentTime;
+    XSendEvent(display, Window(window), False, NoEventMask, &event);
+    XSync(display, False);
+}
+
+void X11Viewer::resize(unsigned long window, int width, int height) const
+{
+    XResizeWindow(asDisplay(display_), Window(window), unsigned(width), unsigned(height));
+    XSync(asDisplay(display_), False);
+}
+
+} // namespace lumar::test
