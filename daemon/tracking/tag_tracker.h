@@ -71,6 +71,11 @@ public:
 
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
 
+    // Forgets every earlier frame (the followed tags, the last poses) and takes new intrinsics:
+    // the next image is searched as a still. Cheaper than a new tracker, which builds the
+    // family's decoding tables again. Throws InputError for invalid intrinsics.
+    void reset(const CameraIntrinsics& intrinsics);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
