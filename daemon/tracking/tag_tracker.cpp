@@ -112,6 +112,7 @@ struct TagTracker::Impl {
     };
     std::map<int, LastPose> lastPoses;
     uint64_t frameCount = 0;
+    SearchCounts counts;
 
     void forgetHistory();
     // Solves the pose of every detection whose size is known.
@@ -228,6 +229,11 @@ const CameraIntrinsics& TagTracker::intrinsics() const
     return impl_->intrinsics;
 }
 
+const TagTracker::SearchCounts& TagTracker::searchCounts() const
+{
+    return impl_->counts;
+}
+
 void TagTracker::reset(const CameraIntrinsics& intrinsics)
 {
     validateIntrinsics(intrinsics);
@@ -272,9 +278,14 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     // the full frame when a tag of the last frame went missing there, and search the full
     // frame regularly anyway so that new tags are found.
     bool searched = false;
-    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery)
+    SearchCounts& counts = impl_->counts;
+    ++counts.frames;
+    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
         searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
+        ++(searched ? counts.windowSearches : counts.fallbacks);
+    }
     if (!searched) {
+        ++counts.fullSearches;
         result.clear();
         impl_->framesSinceFullSearch = 0;
         impl_->detectIn(pixels, luma.width, 0, 0, luma.width, luma.height, result);
