@@ -31,23 +31,39 @@ FollowedTags::FollowedTags(int width, int height, int align) : width_(width), he
 
 void FollowedTags::seen(const std::vector<TagDetection>& detections, uint64_t frame)
 {
-    for (size_t i = 0; i < detections.size(); ++i) {
-        const TagDetection& d = detections[i];
-        // An id seen twice in one frame (sorted by id) is followed where it was seen first.
-        if (i > 0 && detections[i - 1].id == d.id)
-            continue;
-        const auto [it, isNew] = tags_.try_emplace(d.id);
-        Tag& tag = it->second;
+    std::vector<std::pair<int, int>> updated;
+    for (const TagDetection& d : detections) {
+        // Which followed copy of this id is it (an id may be seen several times)? The nearest
+        // one not updated yet; a new copy when none is left.
+        const glm::dvec2 at = centre(d.corners);
+        auto best = tags_.end();
+        double bestDistance = 1e300;
+        int copies = 0;
+        for (auto it = tags_.lower_bound({d.id, 0}); it != tags_.end() && it->first.first == d.id; ++it) {
+            copies = std::max(copies, it->first.second + 1);
+            if (std::find(updated.begin(), updated.end(), it->first) != updated.end())
+                continue;
+            const double distance = glm::length(centre(it->second.corners) - at);
+            if (distance < bestDistance) {
+                bestDistance = distance;
+                best = it;
+            }
+        }
+        const bool isNew = best == tags_.end();
+        if (isNew)
+            best = tags_.try_emplace({d.id, copies}).first;
+        Tag& tag = best->second;
         // Velocity only from consecutive frames: after a gap the old one is stale.
-        tag.velocity = !isNew && tag.frame + 1 == frame ? centre(d.corners) - centre(tag.corners) : glm::dvec2(0.0);
+        tag.velocity = !isNew && tag.frame + 1 == frame ? at - centre(tag.corners) : glm::dvec2(0.0);
         tag.corners = d.corners;
         tag.frame = frame;
+        updated.push_back(best->first);
     }
 }
 
 void FollowedTags::predicted(int id, const std::array<glm::dvec2, 4>& corners, uint64_t frame)
 {
-    Tag& tag = tags_[id];
+    Tag& tag = tags_[{id, 0}];
     tag.velocity = glm::dvec2(0.0); // the map's pose moves it from now on
     tag.corners = corners;
     tag.frame = frame;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -52,7 +53,7 @@ private:
         uint64_t frame = 0;       // when seen (or predicted) there
     };
     int width_, height_, align_;
-    std::map<int, Tag> tags_;
+    std::map<std::pair<int, int>, Tag> tags_; // by id and copy (0: the only or leftmost one)
 };
 
 // True when every corner of every detection lies at least kWindowEdgeClearance pixels inside

@@ -97,7 +97,7 @@ struct TagTracker::Impl {
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
     FollowedTags followed{0, 0, 8};
-    std::vector<int> lastIds; // the last frame's detections, sorted
+    std::vector<int> lastIds; // the ids of the last frame's detections, sorted, copies repeated
 
     // The maps solved from the last frame's detections (with roi and maps): they predict
     // where the maps' unseen tags are, and detectMaps() returns them without solving again.
@@ -312,12 +312,14 @@ bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std
     // Every tag of the last frame found again (both lists sorted by id)? A tag missing now is
     // searched for at once in the full frame; if that misses it too, only its window is
     // searched on the following frames.
+    // Copies of one id count one by one.
     size_t j = 0;
     for (const int id : lastIds) {
         while (j < out.size() && out[j].id < id)
             ++j;
         if (j == out.size() || out[j].id != id)
             return false;
+        ++j;
     }
     return true;
 }
@@ -326,8 +328,7 @@ void TagTracker::Impl::follow(const std::vector<TagDetection>& detections)
 {
     lastIds.clear();
     for (const TagDetection& d : detections)
-        if (lastIds.empty() || lastIds.back() != d.id)
-            lastIds.push_back(d.id);
+        lastIds.push_back(d.id);
     followed.seen(detections, frameCount);
     mapsValid = false;
     if (maps.empty())

@@ -127,6 +127,27 @@ TEST(Reacquisition, OcclusionEndingAtAnyFrameIsReacquiredAtOnce)
     }
 }
 
+// Two copies of one id: the one missed on a frame is found again on the next, the other
+// still followed where it is.
+TEST(Reacquisition, EachCopyOfARepeatedIdIsFollowed)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    for (int hidden = 0; hidden < 2; ++hidden) {
+        SCOPED_TRACE("copy " + std::to_string(hidden) + " hidden");
+        tracker.reset(camera());
+        for (int frame = 0; frame < 5; ++frame) {
+            std::vector<PlacedTag> tags{{1, 260, 300}};
+            if (frame != 2 || hidden != 0)
+                tags.push_back({0, 40, 60});
+            if (frame != 2 || hidden != 1)
+                tags.push_back({0, 480, 60});
+            EXPECT_EQ(tracker.detect(drawTags(tags)).size(), tags.size()) << "frame " << frame;
+        }
+    }
+}
+
 // A 2x2 board of 8 cm tags 20 cm apart, 0.5 m in front of the camera and facing it.
 MapConfig board()
 {
