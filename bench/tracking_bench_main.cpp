@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/tracking_bench.h"
+#include "bench/tracking_overhead.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -53,6 +54,17 @@ int main(int argc, char** argv)
         ->check(CLI::Range(uint64_t(0), uint64_t(1) << 62))
         ->capture_default_str();
     app.add_flag("--json", json, "one JSON object instead of the table");
+    bool overhead = false;
+    lumar::TrackingOverheadOptions overheadOptions;
+    app.add_flag("--overhead", overhead,
+                 "instead: lumar's tracker against the library's detection call on the same luma planes\n"
+                 "(full frame, stills, video), interleaved rounds, medians (bench/tracking_overhead.h)");
+    app.add_option("--overhead-frames", overheadOptions.frames, "with --overhead: frames per round")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    app.add_option("--overhead-rounds", overheadOptions.rounds, "with --overhead: rounds")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
     app.add_option("--log-level", logLevel, "e.g. info, or tracking:debug,*:warn")->capture_default_str();
     try {
         app.parse(argc, argv);
@@ -68,6 +80,13 @@ int main(int argc, char** argv)
             std::fprintf(stderr, "%s: bad log level '%s' (e.g. info, or capture:debug,*:warn)\n", kProgram,
                          logLevel.c_str());
             return lumar::kExitBadInput;
+        }
+        if (overhead) {
+            overheadOptions.width = options.width;
+            overheadOptions.height = options.height;
+            overheadOptions.seed = options.seed;
+            std::fputs(lumar::runTrackingOverhead(overheadOptions).c_str(), stdout);
+            return lumar::kExitOk;
         }
         const lumar::TrackingBenchReport report = lumar::runTrackingBench(options);
         const std::string text = json ? lumar::trackingBenchJson(report) : lumar::trackingBenchMarkdown(report);

@@ -2,6 +2,7 @@
 // image on stdout. An unreadable image is reported on stderr, the others are still
 // processed, and the exit code is then 2.
 #include <cstdio>
+#include <memory>
 
 #include "commands.h"
 #include "config/config.h"
@@ -24,6 +25,10 @@ int detectCommand(const DetectCommandOptions& options)
     const auto& calibration = options.calibration;
     const CameraIntrinsics calibrated = calibration ? loadCalibration(*calibration) : CameraIntrinsics{};
 
+    // One tracker for every image: building one builds the family's decoding tables (about
+    // 0.45 s for tag36h11 with 2 correctable bits, measured here), far more than detecting in
+    // a 720p image. reset() makes each image a still (no windows, no previous poses).
+    std::unique_ptr<TagTracker> tracker;
     int exitCode = kExitOk;
     for (const std::string& file : options.images) {
         try {
@@ -33,8 +38,11 @@ int detectCommand(const DetectCommandOptions& options)
                 throw InputError(file + ": image is " + std::to_string(luma.width) + "x" + std::to_string(luma.height) +
                                  " but " + *calibration + " is calibrated for " + std::to_string(k.width) + "x" +
                                  std::to_string(k.height));
-            TagTracker tracker(tracking, k, sizes);
-            const std::string line = detectionsToJson(file, tracker.detect(luma));
+            if (!tracker)
+                tracker = std::make_unique<TagTracker>(tracking, k, sizes);
+            else
+                tracker->reset(k);
+            const std::string line = detectionsToJson(file, tracker->detect(luma));
             std::printf("%s\n", line.c_str());
         } catch (const InputError& e) {
             std::fprintf(stderr, "lumar: %s\n", e.what());

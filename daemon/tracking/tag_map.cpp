@@ -175,4 +175,28 @@ bool solveMapPose(const TagMap& map, const std::vector<TagDetection>& detections
     return true;
 }
 
+bool projectMapTag(const TagMapTag& tag, const Pose& cameraFromMap, const CameraIntrinsics& intrinsics,
+                   std::array<glm::dvec2, 4>& corners)
+{
+    const Pose cameraFromTag = cameraFromMap * tag.mapFromTag;
+    // The tag's +z (out of its face) must point towards the camera, i.e. against its position.
+    const glm::dvec3 normal = cameraFromTag.R * glm::dvec3(0.0, 0.0, 1.0);
+    if (!(glm::dot(normal, cameraFromTag.t) < 0.0))
+        return false;
+    std::vector<cv::Point3d> points;
+    for (const glm::dvec3& corner : tagCornersInMarkerFrame(tag.size)) {
+        const glm::dvec3 p = cameraFromTag.apply(corner);
+        if (!(p.z > 0.0))
+            return false;
+        points.emplace_back(p.x, p.y, p.z);
+    }
+    const cv::Matx33d cameraMatrix(intrinsics.fx, 0, intrinsics.cx, 0, intrinsics.fy, intrinsics.cy, 0, 0, 1);
+    const std::vector<double> distortion(intrinsics.distortion.begin(), intrinsics.distortion.end());
+    std::vector<cv::Point2d> projected;
+    cv::projectPoints(points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cameraMatrix, distortion, projected);
+    for (size_t i = 0; i < 4; ++i)
+        corners[i] = {projected[i].x, projected[i].y};
+    return true;
+}
+
 } // namespace lumar

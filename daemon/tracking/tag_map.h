@@ -4,6 +4,7 @@
 // ambiguity; the map is still found while some of its tags are hidden.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,11 @@ struct MapDetection {
 // (not finite, a corner behind the camera, or an RMS error above 4 px).
 bool solveMapPose(const TagMap& map, const std::vector<TagDetection>& detections, const CameraIntrinsics& intrinsics,
                   MapDetection& out);
+
+// Where `tag` of a map seen with `cameraFromMap` appears: its corners (OpenCV pixel convention,
+// AprilTag order, through the lens distortion). False when a corner is behind the camera or
+// the tag shows the camera its back.
+bool projectMapTag(const TagMapTag& tag, const Pose& cameraFromMap, const CameraIntrinsics& intrinsics,
+                   std::array<glm::dvec2, 4>& corners);
 
 } // namespace lumar

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "tracking/apriltag_family.h"
+#include "tracking/followed_tags.h"
 #include "tracking/tag_map.h"
 
 namespace lumar {
@@ -39,6 +40,13 @@ constexpr bool kLibraryThreadsAreSafe = false;
 constexpr bool kLibraryThreadsAreSafe = true;
 #endif
 
+void validateIntrinsics(const CameraIntrinsics& k)
+{
+    if (k.width <= 0 || k.height <= 0 || !(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) ||
+        !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
+        throw InputError("tracking: camera intrinsics need a positive image size and focal lengths");
+}
+
 void validate(const TrackingConfig& config, const CameraIntrinsics& k, const TagSizes& sizes)
 {
     if (!(config.quadDecimate >= 1.0 && config.quadDecimate <= 16.0))
@@ -51,9 +59,7 @@ void validate(const TrackingConfig& config, const CameraIntrinsics& k, const Tag
     if (config.threads < 1 || config.threads > kMaxThreads)
         throw InputError("tracking: threads must be in [1, " + std::to_string(kMaxThreads) + "], got " +
                          std::to_string(config.threads));
-    if (k.width <= 0 || k.height <= 0 || !(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) ||
-        !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
-        throw InputError("tracking: camera intrinsics need a positive image size and focal lengths");
+    validateIntrinsics(k);
     const auto validSize = [](double s) { return std::isfinite(s) && s >= 0.0; };
     if (!validSize(sizes.fallback))
         throw InputError("tracking: the default tag size must be a finite length >= 0");
@@ -85,12 +91,19 @@ struct TagTracker::Impl {
     std::vector<TagMap> maps;
     bool copyInput = false;
     std::vector<uint8_t> scratch; // the copy the library may modify, reused every frame
-    // Region-of-interest search around the last detections (DESIGN.md §5).
+    // Region-of-interest search around the followed tags (DESIGN.md §5).
     bool roi = false;
     int fullFrameEvery = 1;
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
-    std::vector<TagDetection> last;
+    FollowedTags followed{0, 0, 8};
+    std::vector<int> lastIds; // the ids of the last frame's detections, sorted, copies repeated
+
+    // The maps solved from the last frame's detections (with roi and maps): they predict
+    // where the maps' unseen tags are, and detectMaps() returns them without solving again.
+    std::vector<TagDetection> mapsInput;
+    std::vector<MapDetection> mapsResult;
+    bool mapsValid = false;
 
     // The last pose of each tag id, to choose between IPPE's two solutions when they tie.
     struct LastPose {
@@ -99,9 +112,17 @@ struct TagTracker::Impl {
     };
     std::map<int, LastPose> lastPoses;
     uint64_t frameCount = 0;
+    SearchCounts counts;
 
+    void forgetHistory();
     // Solves the pose of every detection whose size is known.
     void solvePoses(std::vector<TagDetection>& detections);
+    [[nodiscard]] std::vector<MapDetection> solveMaps(const std::vector<TagDetection>& detections) const;
+    // Searches the followed tags' windows; false when the result cannot stand for a
+    // full-frame search (a detection cut by a window's edge, a tag of the last frame missing).
+    bool searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out);
+    // After a frame: follows its tags, and the unseen tags of the maps it shows.
+    void follow(const std::vector<TagDetection>& detections);
 
     // Detects in the rectangle [x0, x1) x [y0, y1) of `pixels` (row stride `stride`) and
     // appends to `out` with corners in full-image coordinates.
@@ -109,50 +130,6 @@ struct TagTracker::Impl {
 };
 
 namespace {
-
-// The search window around the last detections: their bounding box grown by its own size
-// (a tag moving fast between frames stays inside), at least kMinRoiMargin pixels each side.
-constexpr double kMinRoiMargin = 48.0;
-
-struct Window {
-    int x0, y0, x1, y1;
-};
-
-// `align`: the window's origin is a multiple of it, so the library's decimation grid and its
-// threshold tiles (4x4 decimated pixels) fall exactly where a full-frame search puts them and
-// both searches see the same pixels the same way.
-Window searchWindow(const std::vector<TagDetection>& last, int width, int height, int align)
-{
-    double minX = 1e9, minY = 1e9, maxX = -1e9, maxY = -1e9;
-    for (const TagDetection& d : last)
-        for (const glm::dvec2& c : d.corners) {
-            minX = std::min(minX, c.x);
-            minY = std::min(minY, c.y);
-            maxX = std::max(maxX, c.x);
-            maxY = std::max(maxY, c.y);
-        }
-    const double margin = std::max(kMinRoiMargin, 0.5 * std::max(maxX - minX, maxY - minY));
-    const auto alignDown = [align](int v) { return v / align * align; };
-    return {alignDown(std::clamp(int(std::floor(minX - margin)), 0, width)),
-            alignDown(std::clamp(int(std::floor(minY - margin)), 0, height)),
-            std::clamp(int(std::ceil(maxX + margin)), 0, width), std::clamp(int(std::ceil(maxY + margin)), 0, height)};
-}
-
-// A tag cut by the window's edge can still decode, with a wrong quad; such a result is not
-// trusted (the caller searches the full frame). Edges that are the image's own are fine.
-constexpr double kWindowEdgeClearance = 4.0;
-
-bool wellInside(const std::vector<TagDetection>& detections, const Window& w, int width, int height)
-{
-    for (const TagDetection& d : detections)
-        for (const glm::dvec2& c : d.corners) {
-            if ((w.x0 > 0 && c.x < w.x0 + kWindowEdgeClearance) || (w.y0 > 0 && c.y < w.y0 + kWindowEdgeClearance) ||
-                (w.x1 < width && c.x > w.x1 - kWindowEdgeClearance) ||
-                (w.y1 < height && c.y > w.y1 - kWindowEdgeClearance))
-                return false;
-        }
-    return true;
-}
 
 // By id, then left to right for repeated ids.
 void sortDetections(std::vector<TagDetection>& detections)
@@ -164,10 +141,11 @@ void sortDetections(std::vector<TagDetection>& detections)
     });
 }
 
-bool sameIds(const std::vector<TagDetection>& a, const std::vector<TagDetection>& b)
+bool sameDetections(const std::vector<TagDetection>& a, const std::vector<TagDetection>& b)
 {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
-                      [](const TagDetection& x, const TagDetection& y) { return x.id == y.id; });
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const TagDetection& x, const TagDetection& y) {
+        return x.id == y.id && x.corners == y.corners && x.hasPose == y.hasPose;
+    });
 }
 
 } // namespace
@@ -200,6 +178,7 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     impl_->roi = config.roi;
     impl_->fullFrameEvery = std::max(1, config.fullFrameEvery);
     impl_->roiAlignment = 4 * int(std::ceil(config.quadDecimate));
+    impl_->forgetHistory();
     LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits << " bits), quad_decimate "
                               << config.quadDecimate << ", quad_sigma " << config.quadSigma << ", refine_edges "
                               << config.refineEdges << ", " << td.nthreads << " threads";
@@ -227,10 +206,17 @@ void TagTracker::setMaps(std::vector<TagMap> maps)
 
 std::vector<MapDetection> TagTracker::detectMaps(const std::vector<TagDetection>& detections) const
 {
+    if (impl_->mapsValid && sameDetections(detections, impl_->mapsInput))
+        return impl_->mapsResult;
+    return impl_->solveMaps(detections);
+}
+
+std::vector<MapDetection> TagTracker::Impl::solveMaps(const std::vector<TagDetection>& detections) const
+{
     std::vector<MapDetection> result;
-    for (size_t i = 0; i < impl_->maps.size(); ++i) {
+    for (size_t i = 0; i < maps.size(); ++i) {
         MapDetection map;
-        if (solveMapPose(impl_->maps[i], detections, impl_->intrinsics, map)) {
+        if (solveMapPose(maps[i], detections, intrinsics, map)) {
             map.index = int(i);
             result.push_back(std::move(map));
         }
@@ -241,6 +227,29 @@ std::vector<MapDetection> TagTracker::detectMaps(const std::vector<TagDetection>
 const CameraIntrinsics& TagTracker::intrinsics() const
 {
     return impl_->intrinsics;
+}
+
+const TagTracker::SearchCounts& TagTracker::searchCounts() const
+{
+    return impl_->counts;
+}
+
+void TagTracker::reset(const CameraIntrinsics& intrinsics)
+{
+    validateIntrinsics(intrinsics);
+    impl_->intrinsics = intrinsics;
+    impl_->forgetHistory();
+}
+
+void TagTracker::Impl::forgetHistory()
+{
+    followed = FollowedTags(intrinsics.width, intrinsics.height, roiAlignment);
+    lastIds.clear();
+    framesSinceFullSearch = 0;
+    mapsInput.clear();
+    mapsResult.clear();
+    mapsValid = false;
+    lastPoses.clear();
 }
 
 std::vector<TagDetection> TagTracker::detect(const Image8& luma)
@@ -255,6 +264,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
                          " but the camera intrinsics are for " + std::to_string(k.width) + "x" +
                          std::to_string(k.height));
     std::vector<TagDetection> result;
+    ++impl_->frameCount;
     if (luma.width < kMinImageSide || luma.height < kMinImageSide)
         return result;
 
@@ -264,31 +274,82 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         impl_->scratch.assign(luma.data.begin(), luma.data.end());
         pixels = impl_->scratch.data();
     }
-    // Search near the last detections; fall back to the full frame when a tag went missing
-    // there, and search the full frame regularly anyway so new tags are found.
+    // Search the followed tags' windows while the last frame found something; fall back to
+    // the full frame when a tag of the last frame went missing there, and search the full
+    // frame regularly anyway so that new tags are found.
     bool searched = false;
-    if (impl_->roi && !impl_->last.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
-        const Window w = searchWindow(impl_->last, luma.width, luma.height, impl_->roiAlignment);
-        if (w.x1 - w.x0 >= kMinImageSide && w.y1 - w.y0 >= kMinImageSide) {
-            impl_->detectIn(pixels, luma.width, w.x0, w.y0, w.x1, w.y1, result);
-            sortDetections(result);
-            searched = sameIds(result, impl_->last) && wellInside(result, w, luma.width, luma.height);
-        }
+    SearchCounts& counts = impl_->counts;
+    ++counts.frames;
+    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
+        searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
+        ++(searched ? counts.windowSearches : counts.fallbacks);
     }
     if (!searched) {
+        ++counts.fullSearches;
         result.clear();
         impl_->framesSinceFullSearch = 0;
         impl_->detectIn(pixels, luma.width, 0, 0, luma.width, luma.height, result);
+        sortDetections(result);
     }
-    sortDetections(result);
     impl_->solvePoses(result);
-    impl_->last = result;
+    if (impl_->roi)
+        impl_->follow(result);
     return result;
+}
+
+bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out)
+{
+    for (const SearchWindow& w : followed.windows(frameCount)) {
+        if (w.x1 - w.x0 < kMinImageSide || w.y1 - w.y0 < kMinImageSide)
+            continue; // a sliver at the image's edge: a tag missing there brings the full frame
+        const size_t first = out.size();
+        detectIn(pixels, width, w.x0, w.y0, w.x1, w.y1, out);
+        const std::vector<TagDetection> found(out.begin() + std::ptrdiff_t(first), out.end());
+        if (!wellInside(found, w, width, height))
+            return false;
+    }
+    sortDetections(out);
+    // Every tag of the last frame found again (both lists sorted by id)? A tag missing now is
+    // searched for at once in the full frame; if that misses it too, only its window is
+    // searched on the following frames.
+    // Copies of one id count one by one.
+    size_t j = 0;
+    for (const int id : lastIds) {
+        while (j < out.size() && out[j].id < id)
+            ++j;
+        if (j == out.size() || out[j].id != id)
+            return false;
+        ++j;
+    }
+    return true;
+}
+
+void TagTracker::Impl::follow(const std::vector<TagDetection>& detections)
+{
+    lastIds.clear();
+    for (const TagDetection& d : detections)
+        lastIds.push_back(d.id);
+    followed.seen(detections, frameCount);
+    mapsValid = false;
+    if (maps.empty())
+        return;
+    // The maps' tags not seen now, where each map's pose puts them: searched for from the
+    // next frame on like tags just lost.
+    mapsResult = solveMaps(detections);
+    mapsInput = detections;
+    mapsValid = true;
+    for (const MapDetection& found : mapsResult)
+        for (const TagMapTag& tag : maps[size_t(found.index)].tags) {
+            if (std::binary_search(lastIds.begin(), lastIds.end(), tag.id))
+                continue;
+            std::array<glm::dvec2, 4> corners;
+            if (projectMapTag(tag, found.cameraFromMap, intrinsics, corners))
+                followed.predicted(tag.id, corners, frameCount);
+        }
 }
 
 void TagTracker::Impl::solvePoses(std::vector<TagDetection>& detections)
 {
-    ++frameCount;
     for (size_t i = 0; i < detections.size(); ++i) {
         TagDetection& d = detections[i];
         const double size = sizes.of(d.id);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <vector>
@@ -70,6 +71,20 @@ public:
     [[nodiscard]] std::vector<MapDetection> detectMaps(const std::vector<TagDetection>& detections) const;
 
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
+
+    // How the frames were searched since construction (never reset): for benchmarks and logs.
+    struct SearchCounts {
+        uint64_t frames = 0;
+        uint64_t windowSearches = 0; // frames whose windows' result stood
+        uint64_t fullSearches = 0;   // frames searched whole (first, scheduled, or fallback)
+        uint64_t fallbacks = 0;      // of those, after a window search that did not stand
+    };
+    [[nodiscard]] const SearchCounts& searchCounts() const;
+
+    // Forgets every earlier frame (the followed tags, the last poses) and takes new intrinsics:
+    // the next image is searched as a still. Cheaper than a new tracker, which builds the
+    // family's decoding tables again. Throws InputError for invalid intrinsics.
+    void reset(const CameraIntrinsics& intrinsics);
 
 private:
     struct Impl;

@@ -1,0 +1,212 @@
+// Re-acquisition in the region-of-interest search (issue 19): generated sequences of tags
+// facing the camera, some of them hidden for a few frames. A tag missed on one frame, or
+// occluded for a while, must be found on the first frame it shows again, not only at the
+// next scheduled full-frame search; so must a [[maps]] board's tag whose place the board's
+// pose predicts.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "tracking/tag_map.h"
+#include "tracking/tag_tracker.h"
+#include "tracking_test_support.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kWidth = 640, kHeight = 480;
+constexpr int kCellPx = 10; // the PNG's 10x10 cells, 8 of them the black-bordered tag
+constexpr int kFullFrameEvery = 10;
+
+// A pinhole camera in which a 8 cm tag 0.5 m away, facing it, is 80 px wide: 10 px per cell.
+CameraIntrinsics camera()
+{
+    CameraIntrinsics k;
+    k.width = kWidth;
+    k.height = kHeight;
+    k.fx = k.fy = 500.0;
+    k.cx = (kWidth - 1) / 2.0;
+    k.cy = (kHeight - 1) / 2.0;
+    return k;
+}
+
+struct PlacedTag {
+    int id = 0;
+    int x = 0, y = 0; // top-left pixel of the tag's image (white ring included)
+};
+
+cv::Mat tagImage(int id)
+{
+    const std::string name =
+        std::string(LUMAR_TEST_DATA_DIR) + "/apriltag/tag36h11/tag36_11_0000" + std::to_string(id) + ".png";
+    const cv::Mat png = cv::imread(name, cv::IMREAD_GRAYSCALE);
+    EXPECT_EQ(png.cols, 10) << name;
+    cv::Mat scaled;
+    cv::resize(png, scaled, {}, kCellPx, kCellPx, cv::INTER_NEAREST);
+    return scaled;
+}
+
+// The tags drawn upright on a grey background: an exact image of tags facing the camera.
+Image8 drawTags(const std::vector<PlacedTag>& tags)
+{
+    cv::Mat image(kHeight, kWidth, CV_8UC1, cv::Scalar(128));
+    for (const PlacedTag& tag : tags) {
+        const cv::Mat tile = tagImage(tag.id);
+        tile.copyTo(image(cv::Rect(tag.x, tag.y, tile.cols, tile.rows)));
+    }
+    return test::toImage8(image);
+}
+
+TrackingConfig roiConfig()
+{
+    TrackingConfig config;
+    config.roi = true;
+    config.fullFrameEvery = kFullFrameEvery;
+    config.threads = 1;
+    return config;
+}
+
+bool found(const std::vector<TagDetection>& detections, int id)
+{
+    for (const TagDetection& d : detections)
+        if (d.id == id)
+            return true;
+    return false;
+}
+
+// Two tags moving 2 px per frame to the right; tag 0 is hidden on the frames in [from, to).
+std::vector<PlacedTag> twoTags(int frame, int hiddenFrom, int hiddenTo)
+{
+    std::vector<PlacedTag> tags{{1, 380 + 2 * frame, 220}};
+    if (frame < hiddenFrom || frame >= hiddenTo)
+        tags.push_back({0, 60 + 2 * frame, 120});
+    return tags;
+}
+
+// A tag hidden on exactly one frame (every phase of the full-frame schedule) while the other
+// stays in view is found again on the next frame.
+TEST(Reacquisition, TagMissedOnOneFrameIsFoundOnTheNext)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    for (int hidden = 1; hidden <= kFullFrameEvery + 2; ++hidden) {
+        SCOPED_TRACE("hidden on frame " + std::to_string(hidden));
+        tracker.reset(camera()); // a new sequence, without building the detector again
+        for (int frame = 0; frame <= hidden + 1; ++frame) {
+            const auto detections = tracker.detect(drawTags(twoTags(frame, hidden, hidden + 1)));
+            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
+            EXPECT_EQ(found(detections, 0), frame != hidden) << "frame " << frame;
+        }
+    }
+}
+
+// An occlusion of every length from 1 to 2 * full_frame_every + 1 frames, so that its end
+// falls k frames after a full-frame search for every k in 1..full_frame_every-1 (the search
+// made when the tag went missing, and the scheduled ones after it): the tag is found on the
+// first frame it shows again.
+TEST(Reacquisition, OcclusionEndingAtAnyFrameIsReacquiredAtOnce)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    constexpr int kStart = 3;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    for (int length = 1; length <= 2 * kFullFrameEvery + 1; ++length) {
+        SCOPED_TRACE("occluded for " + std::to_string(length) + " frames");
+        tracker.reset(camera());
+        for (int frame = 0; frame <= kStart + length; ++frame) {
+            const auto detections = tracker.detect(drawTags(twoTags(frame, kStart, kStart + length)));
+            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
+            EXPECT_EQ(found(detections, 0), frame < kStart || frame >= kStart + length) << "frame " << frame;
+        }
+    }
+}
+
+// Two copies of one id: the one missed on a frame is found again on the next, the other
+// still followed where it is.
+TEST(Reacquisition, EachCopyOfARepeatedIdIsFollowed)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    for (int hidden = 0; hidden < 2; ++hidden) {
+        SCOPED_TRACE("copy " + std::to_string(hidden) + " hidden");
+        tracker.reset(camera());
+        for (int frame = 0; frame < 5; ++frame) {
+            std::vector<PlacedTag> tags{{1, 260, 300}};
+            if (frame != 2 || hidden != 0)
+                tags.push_back({0, 40, 60});
+            if (frame != 2 || hidden != 1)
+                tags.push_back({0, 480, 60});
+            EXPECT_EQ(tracker.detect(drawTags(tags)).size(), tags.size()) << "frame " << frame;
+        }
+    }
+}
+
+// A 2x2 board of 8 cm tags 20 cm apart, 0.5 m in front of the camera and facing it.
+MapConfig board()
+{
+    MapConfig map;
+    map.name = "board";
+    map.tags = {{0, 0.08, {-0.1, 0.1, 0.0}, {0.0, 0.0, 0.0}},
+                {1, 0.08, {0.1, 0.1, 0.0}, {0.0, 0.0, 0.0}},
+                {2, 0.08, {-0.1, -0.1, 0.0}, {0.0, 0.0, 0.0}},
+                {3, 0.08, {0.1, -0.1, 0.0}, {0.0, 0.0, 0.0}}};
+    return map;
+}
+
+// Where the camera above sees the board's tag at map (x, y): 1000 px per metre about the
+// image's centre, the map's y up; the top-left of its 100 px image.
+PlacedTag boardTag(int id, double x, double y)
+{
+    return {id, int(std::lround(270.0 + 1000.0 * x)), int(std::lround(190.0 - 1000.0 * y))};
+}
+
+// The board's lower tags are covered until frame `appear` (every phase of the schedule): the
+// board's pose, solved from its upper tags, predicts them, and they are found on that frame.
+TEST(Reacquisition, BoardTagsPredictedByTheBoardPoseAreFoundWhenTheyAppear)
+{
+    const MapConfig config = board();
+    TagTracker tracker(roiConfig(), camera(), TagSizes{});
+    tracker.setMaps({makeTagMap(config)});
+    for (int appear = 2; appear <= kFullFrameEvery + 2; ++appear) {
+        SCOPED_TRACE("lower tags appear on frame " + std::to_string(appear));
+        tracker.reset(camera());
+        for (int frame = 0; frame <= appear; ++frame) {
+            std::vector<PlacedTag> tags{boardTag(0, -0.1, 0.1), boardTag(1, 0.1, 0.1)};
+            if (frame >= appear) {
+                tags.push_back(boardTag(2, -0.1, -0.1));
+                tags.push_back(boardTag(3, 0.1, -0.1));
+            }
+            const auto detections = tracker.detect(drawTags(tags));
+            ASSERT_EQ(detections.size(), tags.size()) << "frame " << frame;
+            const auto maps = tracker.detectMaps(detections);
+            ASSERT_EQ(maps.size(), 1u) << "frame " << frame;
+            EXPECT_EQ(maps[0].tagsUsed, int(tags.size()));
+            EXPECT_NEAR(maps[0].cameraFromMap.t.z, 0.5, 0.01);
+        }
+    }
+}
+
+// reset() forgets the sequence: the next image is searched whole, as by a new tracker.
+TEST(Reacquisition, ResetSearchesTheNextImageAsAStill)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    ASSERT_EQ(tracker.detect(drawTags({{0, 60, 120}})).size(), 1u);
+    tracker.reset(camera());
+    // Far from the last tag's window, but found at once.
+    const auto detections = tracker.detect(drawTags({{1, 500, 350}}));
+    ASSERT_EQ(detections.size(), 1u);
+    EXPECT_EQ(detections[0].id, 1);
+    EXPECT_THROW(tracker.reset(CameraIntrinsics{}), InputError);
+}
+
+} // namespace
+} // namespace lumar
