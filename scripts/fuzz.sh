@@ -50,6 +50,11 @@ case $target in
   calibration) dict=(-dict="$root/tests/fuzz/dict/yaml.dict") ;;
   *) dict=() ;;
 esac
+# Targets write each input to a scratch file (the loaders take paths): in memory that is
+# about 12 times faster than on this disk (calibration: 3,000 against 250 runs a second).
+if [ -z "${TMPDIR:-}" ] && [ -w /dev/shm ]; then
+  export TMPDIR=/dev/shm
+fi
 # -timeout: an input that takes 10 s is a stall (the hangs); -rss_limit_mb: what a
 # small appliance has.
 "$build/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -max_len="${MAX_LEN:-65536}" -timeout=10 \
