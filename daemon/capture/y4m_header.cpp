@@ -147,6 +147,15 @@ Y4mHeader parseY4mHeader(std::string_view line, const std::string& fileName)
     if (!haveWidth || !haveHeight) {
         fail("the header has no W (width) or H (height) field");
     }
+    // A rate outside this range is not a video (issue 16: F1:1000 made `lumar run` wait a
+    // thousand seconds per frame, and F1:2147483647 overflowed the frame timestamps).
+    if (header.fpsNumerator > 0) {
+        const double fps = double(header.fpsNumerator) / double(header.fpsDenominator);
+        if (!(fps >= kY4mMinFps && fps <= kY4mMaxFps)) {
+            fail("frame rate " + std::to_string(header.fpsNumerator) + ":" + std::to_string(header.fpsDenominator) +
+                 " is outside 0.1..1000 frames per second");
+        }
+    }
     const auto validDimension = [](int v) { return v >= 1 && v <= kY4mMaxDimension; };
     if (!validDimension(header.width) || !validDimension(header.height)) {
         fail("frame size " + std::to_string(header.width) + "x" + std::to_string(header.height) +

@@ -9,6 +9,9 @@
 namespace lumar {
 
 inline constexpr int kY4mMaxDimension = 16384;
+// Frame rates accepted from the F field: one frame in ten seconds to a thousand a second.
+inline constexpr double kY4mMinFps = 0.1;
+inline constexpr double kY4mMaxFps = 1000.0;
 
 enum class Y4mChroma { Yuv420, Yuv422, Yuv444, Mono };
 
@@ -27,7 +30,7 @@ struct Y4mHeader {
 
 // Parses the header line without its trailing newline. Throws InputError "FILE: ..." for a
 // wrong magic, a missing or malformed W/H, sizes outside 1..16384, odd sizes for 4:2:0, a
-// bad frame rate or an unsupported colour space (anything but 8-bit 4:2:0, 4:2:2, 4:4:4
+// frame rate outside 0.1..1000 fps or an unsupported colour space (anything but 8-bit 4:2:0, 4:2:2, 4:4:4
 // and mono).
 Y4mHeader parseY4mHeader(std::string_view line, const std::string& fileName);
 

@@ -1,6 +1,7 @@
 // lumar run: the daemon loop. Frames are processed as the camera delivers them (file and fake
 // sources are paced to their frame rate), the headless sink keeps the output file current,
 // and SIGINT/SIGTERM stop the loop cleanly after the frame in flight.
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -38,6 +39,21 @@ extern "C" void onSignal(int signal)
         gReloadRequested.store(true);
     else
         gStopRequested.store(true);
+}
+
+// Waits for the next frame's time, or less: a stop or reload signal ends the wait within a
+// slice (issue 16: a slow frame rate kept `lumar run` asleep, deaf to SIGTERM, until systemd's
+// SIGKILL). Slices rather than one interruptible sleep, because the signal may be delivered
+// to any of the process's threads and interrupt none of this one's calls.
+void sleepUntilSignalled(std::chrono::steady_clock::time_point deadline)
+{
+    constexpr auto kSlice = std::chrono::milliseconds(20);
+    while (!gStopRequested.load() && !gReloadRequested.load()) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= deadline)
+            return;
+        std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, kSlice));
+    }
 }
 
 // Installs the stop and reload handlers for the lifetime of the loop and restores the old
@@ -333,7 +349,7 @@ int runCommand(const RunCommandOptions& options)
             framesInWindow = 0;
             windowStart = now;
         }
-        std::this_thread::sleep_until(paceStart + paceFrames * frameInterval());
+        sleepUntilSignalled(paceStart + paceFrames * frameInterval());
     }
     notifier.stopping();
     scene->sink->finish(scene->pipeline->output());

@@ -6,6 +6,7 @@
 #include <array>
 
 #include "config/config.h"
+#include "config/toml_parse.h"
 #include "config/toml_reader.h"
 #include "core/error.h"
 #include "core/file_bytes.h"
@@ -186,15 +187,7 @@ std::span<const std::string_view> knownGlQuirks()
 BoardProfile parseBoardProfile(std::string_view text, const std::filesystem::path& fileName)
 {
     const std::string name = fileName.string();
-    toml::table root;
-    try {
-        root = toml::parse(text, name);
-    } catch (const toml::parse_error& e) {
-        std::string what(e.description());
-        if (const size_t nl = what.find('\n'); nl != std::string::npos)
-            what.resize(nl);
-        throw InputError(name + ":" + std::to_string(e.source().begin.line) + ": " + what);
-    }
+    const toml::table root = parseToml(text, name);
     BoardProfile board;
     board.sourceFile = fileName;
     TableReader r(root, "", name);
@@ -225,12 +218,10 @@ bool isBoardProfileFile(const std::filesystem::path& file)
     try {
         const std::vector<uint8_t> bytes = readFileBytes(file, kMaxBoardFileBytes);
         const toml::table root =
-            toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file.string());
+            parseToml(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file.string());
         const toml::node* board = root.get("board");
         return board != nullptr && board->is_table();
     } catch (const InputError&) {
-        return false;
-    } catch (const toml::parse_error&) {
         return false;
     }
 }

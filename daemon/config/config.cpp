@@ -3,6 +3,7 @@
 #include "config/config.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <stb_image.h>
 
 #include "config/material_sidecar.h"
+#include "config/toml_parse.h"
 #include "config/toml_reader.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -26,6 +28,12 @@ using config_detail::TableReader;
 using Expect = TableReader::Expect;
 
 constexpr int kTag36h11Codes = 587;
+// Bounds on placement numbers (issue 16: offsets of 1e308 and rotations of 1e300 were
+// accepted and became infinities and meaningless angles in the pose maths). An object or
+// phantom sits within 100 m of its marker (the map's own bound); angles are degrees, one turn
+// either way.
+constexpr double kMaxOffsetMetres = 100.0;
+constexpr double kMaxDegrees = 360.0;
 
 struct Context {
     std::string fileName;
@@ -283,10 +291,10 @@ void readMaps(TableReader& root, std::vector<MapConfig>& maps, const std::vector
             if (!t.has("size"))
                 t.failMissing("size");
             t.number("size", tag.size, 0.005, 2.0, true);
-            t.vec3("position", tag.position);
+            t.vec3("position", tag.position, 100.0);
             if (glm::length(tag.position) > 100.0)
                 t.fail(t.node("position"), "position", "must be within 100 metres of the map's origin");
-            t.vec3("rotation", tag.rotationDeg);
+            t.vec3("rotation", tag.rotationDeg, kMaxDegrees);
             if (!ids.insert(tag.id).second)
                 t.fail(t.node("id"), "id", "tag " + std::to_string(tag.id) + " is already in a map");
             for (const MarkerConfig& m : markers)
@@ -357,9 +365,9 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
             if (!known)
                 r.fail(node, "marker", "marker " + std::to_string(object.marker) + " is not listed in [[markers]]");
         }
-        r.vec3("offset", object.offset);
+        r.vec3("offset", object.offset, kMaxOffsetMetres);
         r.number("heading", object.headingDeg, -360.0, 360.0);
-        r.vec3("rotation", object.rotationDeg);
+        r.vec3("rotation", object.rotationDeg, kMaxDegrees);
         r.number("scale", object.scale, 0.0, 1e6, true);
         r.number("size", object.size, 0.0, 1e3, true);
         objects.push_back(object);
@@ -450,7 +458,7 @@ void readPhantoms(TableReader& root, std::vector<PhantomConfig>& phantoms, const
         r.oneOf("shape", phantom.shape, {"box", "plane", "cylinder", "mesh"});
         readPhantomSize(r, node, phantom);
         readPhantomModel(r, phantom, ctx);
-        r.vec3("offset", phantom.offset);
+        r.vec3("offset", phantom.offset, kMaxOffsetMetres);
         r.number("heading", phantom.headingDeg, -360.0, 360.0);
         r.vec3("color", phantom.color);
         for (int c = 0; c < 3; ++c)
@@ -483,7 +491,7 @@ void readLights(TableReader& root, std::vector<LightConfig>& lights)
         r.oneOf("type", light.type, {"directional"});
         if (!r.has("direction"))
             r.failMissing("direction");
-        r.vec3("direction", light.direction);
+        r.vec3("direction", light.direction, 1e6);
         if (!(glm::length(light.direction) > 1e-9))
             r.fail(r.node("direction"), "direction", "must not be zero");
         light.direction = glm::normalize(light.direction);
@@ -532,6 +540,25 @@ void readRendering(TableReader& root, RenderingConfig& rendering, const Context&
     r.finish();
 }
 
+// "WIDTHxHEIGHT", both sides in 1..16384 (issue 16: sscanf's %d read "4294967297x1" as 1x1
+// by overflowing). from_chars reports overflow instead, and takes no sign or blank.
+bool parseModeSize(std::string_view mode)
+{
+    constexpr int kMaxModeSide = 16384;
+    const size_t x = mode.find('x');
+    if (x == std::string_view::npos)
+        return false;
+    const auto side = [](std::string_view text) {
+        int value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        return ec == std::errc() && end == text.data() + text.size() && !text.empty() && value >= 1 &&
+                       value <= kMaxModeSide
+                   ? value
+                   : 0;
+    };
+    return side(mode.substr(0, x)) != 0 && side(mode.substr(x + 1)) != 0;
+}
+
 void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
 {
     const toml::table* table = root.table("output");
@@ -546,11 +573,8 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     r.oneOf("plane", output.plane, {"auto", "primary", "overlay"});
     r.string("mode", output.mode);
     r.oneOf("kms_api", output.kmsApi, {"auto", "legacy"});
-    int modeWidth = 0, modeHeight = 0;
-    char tail = 0;
-    if (output.mode != "auto" && (std::sscanf(output.mode.c_str(), "%dx%d%c", &modeWidth, &modeHeight, &tail) != 2 ||
-                                  modeWidth <= 0 || modeHeight <= 0))
-        r.fail(table->get("mode"), "mode", "expected \"auto\" or WIDTHxHEIGHT, e.g. \"1920x1080\"");
+    if (output.mode != "auto" && !parseModeSize(output.mode))
+        r.fail(table->get("mode"), "mode", "expected \"auto\" or WIDTHxHEIGHT with sides 1..16384, e.g. \"1920x1080\"");
     r.path("path", output.path, ctx.baseDir, Expect::Parent);
     const auto extension = output.path.extension();
     if (!output.path.empty() && extension != ".png" && extension != ".y4m")
@@ -609,15 +633,7 @@ double Config::markerSize(int id) const
 Config parseConfig(std::string_view text, const std::filesystem::path& fileName, const std::filesystem::path& baseDir)
 {
     const Context ctx{fileName.string(), baseDir};
-    toml::table root;
-    try {
-        root = toml::parse(text, fileName.string());
-    } catch (const toml::parse_error& e) {
-        std::string what(e.description());
-        if (const size_t nl = what.find('\n'); nl != std::string::npos)
-            what.resize(nl);
-        throw InputError(ctx.fileName + ":" + std::to_string(e.source().begin.line) + ": " + what);
-    }
+    const toml::table root = parseToml(text, ctx.fileName);
 
     Config config;
     config.sourceFile = fileName;
@@ -648,6 +664,10 @@ Config loadConfig(const std::filesystem::path& file)
     std::error_code ec;
     if (std::filesystem::is_directory(file, ec))
         throw InputError(file.string() + ": cannot read: is a directory");
+    // A configuration is a few kilobytes; a larger file is not one (and would be read whole).
+    constexpr uintmax_t kMaxConfigBytes = uintmax_t(1) << 20;
+    if (const uintmax_t size = std::filesystem::file_size(file, ec); !ec && size > kMaxConfigBytes)
+        throw InputError(file.string() + ": cannot read: the file is larger than 1 MiB");
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw InputError(file.string() + ": cannot read: " + std::strerror(errno));

@@ -14,6 +14,7 @@
 #include <stb_image.h>
 #include <toml++/toml.h>
 
+#include "config/toml_parse.h"
 #include "config/toml_text.h"
 #include "core/error.h"
 #include "core/file_bytes.h"
@@ -220,16 +221,8 @@ MaterialOverrides loadMaterialSidecar(const std::filesystem::path& file)
     } catch (const InputError& e) {
         throw InputError(fileName + ": " + e.what());
     }
-    toml::table root;
-    try {
-        root = toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), fileName);
-    } catch (const toml::parse_error& e) {
-        std::string what(e.description());
-        if (const size_t nl = what.find('\n'); nl != std::string::npos) {
-            what.resize(nl);
-        }
-        throw InputError(fileName + ":" + std::to_string(e.source().begin.line) + ": " + what);
-    }
+    const toml::table root =
+        parseToml(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), fileName);
 
     MaterialOverrides sidecar;
     sidecar.source = fileName;

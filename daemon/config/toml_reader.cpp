@@ -160,9 +160,9 @@ void TableReader::vec2(std::string_view key, glm::dvec2& out, double limit)
     numbers(key, glm::value_ptr(out), 2, limit);
 }
 
-void TableReader::vec3(std::string_view key, glm::dvec3& out)
+void TableReader::vec3(std::string_view key, glm::dvec3& out, double limit)
 {
-    numbers(key, glm::value_ptr(out), 3, std::numeric_limits<double>::infinity());
+    numbers(key, glm::value_ptr(out), 3, limit);
 }
 
 std::vector<std::pair<std::string, const toml::node*>> TableReader::stringArray(std::string_view key)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <set>
 #include <string>
@@ -30,7 +31,8 @@ public:
     void string(std::string_view key, std::string& out);
     void oneOf(std::string_view key, std::string& out, std::initializer_list<std::string_view> allowed);
     void vec2(std::string_view key, glm::dvec2& out, double limit);
-    void vec3(std::string_view key, glm::dvec3& out);
+    // Three finite numbers; with `limit`, each within [-limit, limit].
+    void vec3(std::string_view key, glm::dvec3& out, double limit = std::numeric_limits<double>::infinity());
     // An array of strings, each with its node (for a message on the element's own line);
     // empty when the key is absent.
     std::vector<std::pair<std::string, const toml::node*>> stringArray(std::string_view key);

@@ -1,5 +1,6 @@
 #include "tracking/calibration_io.h"
 
+#include <charconv>
 #include <cmath>
 #include <ctime>
 #include <string>
@@ -8,7 +9,9 @@
 #include <opencv2/core.hpp>
 
 #include "core/error.h"
+#include "core/file_bytes.h"
 #include "core/log.h"
+#include "tracking/calibration_yaml.h"
 
 namespace lumar {
 namespace {
@@ -35,78 +38,66 @@ public:
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(name_ + ": " + what); }
 
-    CameraIntrinsics read(const cv::FileStorage& fs) const
+    CameraIntrinsics read(const calibration_yaml::Document& document) const
     {
         CameraIntrinsics k;
-        k.width = readSide(fs, "image_width");
-        k.height = readSide(fs, "image_height");
-        readCameraMatrix(fs, k);
-        readDistortion(fs, k);
+        k.width = readSide(document, "image_width");
+        k.height = readSide(document, "image_height");
+        readCameraMatrix(document, k);
+        readDistortion(document, k);
         return k;
     }
 
 private:
-    cv::FileNode required(const cv::FileStorage& fs, const char* key) const
+    const calibration_yaml::Value& required(const calibration_yaml::Document& document, const char* key) const
     {
-        const cv::FileNode node = fs[key];
-        if (node.empty() || node.isNone())
+        const auto found = document.find(key);
+        if (found == document.end())
             fail(std::string("missing key '") + key + "'");
-        return node;
+        return found->second;
     }
 
-    int readSide(const cv::FileStorage& fs, const char* key) const
+    int readSide(const calibration_yaml::Document& document, const char* key) const
     {
-        const cv::FileNode node = required(fs, key);
-        if (!node.isInt())
+        const calibration_yaml::Value& node = required(document, key);
+        int value = 0;
+        const std::string& text = node.scalar;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (node.kind != calibration_yaml::Value::Kind::Scalar || text.empty() || end != text.data() + text.size())
             fail(std::string(key) + ": expected an integer");
-        const int value = int(node);
-        if (value < 1 || value > kMaxImageSide)
-            fail(std::string(key) + ": " + std::to_string(value) + " is outside 1.." + std::to_string(kMaxImageSide));
+        if (ec != std::errc() || value < 1 || value > kMaxImageSide)
+            fail(std::string(key) + ": " + text + " is outside 1.." + std::to_string(kMaxImageSide));
         return value;
     }
 
-    cv::Mat readMatrix(const cv::FileStorage& fs, const char* key) const
+    const calibration_yaml::Matrix& readMatrix(const calibration_yaml::Document& document, const char* key) const
     {
-        const cv::FileNode node = required(fs, key);
-        if (!node.isMap())
+        const calibration_yaml::Value& node = required(document, key);
+        if (node.kind != calibration_yaml::Value::Kind::Matrix)
             fail(std::string(key) + ": expected an !!opencv-matrix");
-        // OpenCV allocates rows x cols before it counts the data: bound them first.
-        const cv::FileNode rows = node["rows"];
-        const cv::FileNode cols = node["cols"];
-        if (!rows.isInt() || !cols.isInt() || int(rows) < 1 || int(rows) > kMaxMatrixSide || int(cols) < 1 ||
-            int(cols) > kMaxMatrixSide)
+        const calibration_yaml::Matrix& m = *node.matrix;
+        if (m.rows > kMaxMatrixSide || m.cols > kMaxMatrixSide)
             fail(std::string(key) + ": expected an !!opencv-matrix with 1.." + std::to_string(kMaxMatrixSide) +
                  " rows and columns");
-        cv::Mat m;
-        try {
-            node >> m;
-        } catch (const cv::Exception& e) {
-            fail(std::string(key) + ": not a valid !!opencv-matrix (" + oneLine(e.err) + ")");
-        }
-        if (m.empty() || m.channels() != 1)
-            fail(std::string(key) + ": expected a single-channel !!opencv-matrix");
-        cv::Mat asDouble;
-        m.convertTo(asDouble, CV_64F);
-        for (int r = 0; r < asDouble.rows; ++r)
-            for (int c = 0; c < asDouble.cols; ++c)
-                if (!std::isfinite(asDouble.at<double>(r, c)))
-                    fail(std::string(key) + ": values must be finite");
-        return asDouble;
+        for (const double v : m.data)
+            if (!std::isfinite(v))
+                fail(std::string(key) + ": values must be finite");
+        return m;
     }
 
-    void readCameraMatrix(const cv::FileStorage& fs, CameraIntrinsics& k) const
+    void readCameraMatrix(const calibration_yaml::Document& document, CameraIntrinsics& k) const
     {
-        const cv::Mat m = readMatrix(fs, "camera_matrix");
+        const calibration_yaml::Matrix& m = readMatrix(document, "camera_matrix");
         if (m.rows != 3 || m.cols != 3)
             fail("camera_matrix: expected 3x3, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
+        const auto at = [&](int r, int c) { return m.data[size_t(r * 3 + c)]; };
         // lumar's camera model has no skew: a matrix with one would be silently wrong.
-        if (m.at<double>(0, 1) != 0.0 || m.at<double>(1, 0) != 0.0 || m.at<double>(2, 0) != 0.0 ||
-            m.at<double>(2, 1) != 0.0 || m.at<double>(2, 2) != 1.0)
+        if (at(0, 1) != 0.0 || at(1, 0) != 0.0 || at(2, 0) != 0.0 || at(2, 1) != 0.0 || at(2, 2) != 1.0)
             fail("camera_matrix: expected the form [fx 0 cx; 0 fy cy; 0 0 1]");
-        k.fx = m.at<double>(0, 0);
-        k.fy = m.at<double>(1, 1);
-        k.cx = m.at<double>(0, 2);
-        k.cy = m.at<double>(1, 2);
+        k.fx = at(0, 0);
+        k.fy = at(1, 1);
+        k.cx = at(0, 2);
+        k.cy = at(1, 2);
         if (!(k.fx > 0.0) || !(k.fy > 0.0))
             fail("camera_matrix: fx and fy must be positive");
         if (!(k.cx >= 0.0 && k.cx < k.width) || !(k.cy >= 0.0 && k.cy < k.height))
@@ -114,15 +105,14 @@ private:
                  std::to_string(k.height) + " image");
     }
 
-    void readDistortion(const cv::FileStorage& fs, CameraIntrinsics& k) const
+    void readDistortion(const calibration_yaml::Document& document, CameraIntrinsics& k) const
     {
-        const cv::Mat d = readMatrix(fs, "distortion_coefficients");
-        const int n = int(d.total());
+        const calibration_yaml::Matrix& d = readMatrix(document, "distortion_coefficients");
+        const int n = int(d.data.size());
         if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5 && n != 8 && n != 12 && n != 14))
             fail("distortion_coefficients: expected a vector of 4, 5, 8, 12 or 14 values");
-        const cv::Mat flat = d.reshape(1, 1);
         for (int i = 0; i < n; ++i) {
-            const double v = flat.at<double>(0, i);
+            const double v = d.data[size_t(i)];
             if (i < kDistortionTermsUsed)
                 k.distortion[size_t(i)] = v;
             else if (v != 0.0)
@@ -133,23 +123,6 @@ private:
 
     std::string name_;
 };
-
-// OpenCV's YAML/XML/JSON parsers throw StsParseError with "FILE(LINE): what" in the
-// exception's `func` field; other failures only have a terse `err`.
-std::string describeParseFailure(const cv::Exception& e, const std::string& fileName)
-{
-    if (e.code == cv::Error::StsParseError) {
-        const std::string where = oneLine(e.func);
-        const size_t close = where.find("): ");
-        const size_t open = where.rfind('(', close);
-        if (close != std::string::npos && open != std::string::npos && open + 1 < close &&
-            where.find_first_not_of("0123456789", open + 1) == close)
-            return fileName + ":" + where.substr(open + 1, close - open - 1) +
-                   ": malformed file: " + where.substr(close + 3);
-        return fileName + ": malformed file: " + where;
-    }
-    return fileName + ": cannot parse: " + oneLine(e.err);
-}
 
 std::string utcTimestamp()
 {
@@ -169,28 +142,20 @@ CameraIntrinsics loadCalibration(const std::filesystem::path& file)
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
         reader.fail("cannot read: no such file");
-    if (!std::filesystem::is_regular_file(file, ec))
-        reader.fail("cannot read: not a regular file");
-    if (std::filesystem::file_size(file, ec) == 0 && !ec)
-        reader.fail("empty file");
+    std::vector<uint8_t> bytes;
     try {
-        cv::FileStorage fs(file.string(), cv::FileStorage::READ);
-        if (!fs.isOpened())
-            reader.fail("cannot read as OpenCV FileStorage");
-        const CameraIntrinsics k = reader.read(fs);
-        LUMAR_LOG(Tracking, Info) << "calibration " << file.string() << ": " << k.width << "x" << k.height << " fx "
-                                  << k.fx << " fy " << k.fy << " cx " << k.cx << " cy " << k.cy;
-        return k;
-    } catch (const InputError&) {
-        throw;
-    } catch (const cv::Exception& e) {
-        // OpenCV's parser reports malformed files by throwing.
-        throw InputError(describeParseFailure(e, file.string()));
-    } catch (const std::exception& e) {
-        // Malformed input can trip standard-library errors inside OpenCV's parser
-        // (measured: std::length_error for a matrix whose 'dt' key reads ':dt').
-        throw InputError(file.string() + ": cannot parse: " + oneLine(e.what()));
+        bytes = readFileBytes(file, calibration_yaml::kMaxFileBytes);
+    } catch (const InputError& e) {
+        reader.fail(std::string("cannot read: ") + e.what());
     }
+    if (bytes.empty())
+        reader.fail("empty file");
+    const calibration_yaml::Document document = calibration_yaml::parse(
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file.string());
+    const CameraIntrinsics k = reader.read(document);
+    LUMAR_LOG(Tracking, Info) << "calibration " << file.string() << ": " << k.width << "x" << k.height << " fx " << k.fx
+                              << " fy " << k.fy << " cx " << k.cx << " cy " << k.cy;
+    return k;
 }
 
 void saveCalibration(const std::filesystem::path& file, const CameraIntrinsics& intrinsics,

@@ -1,4 +1,5 @@
-// Camera calibration files in OpenCV FileStorage YAML: camera_matrix (3x3),
+// Camera calibration files in OpenCV FileStorage YAML (read by calibration_yaml.h, written by
+// OpenCV): camera_matrix (3x3),
 // distortion_coefficients (1x5 or 5x1), image_width, image_height.
 #pragma once
 

@@ -137,6 +137,20 @@ std::vector<T> decodeAccessor(const tinygltf::Model& model, const tinygltf::Acce
 {
     const size_t bytesPerComponent = componentBytes(accessor.componentType);
     const size_t elementBytes = bytesPerComponent * size_t(components);
+    if (accessor.bufferView < 0) {
+        // Zeros plus sparse values: a few hundred bytes of JSON could otherwise claim millions
+        // of elements built from nothing (issue 16). No accessor describes more data than the
+        // file's buffers hold.
+        size_t bufferBytes = 0;
+        for (const tinygltf::Buffer& buffer : model.buffers) {
+            bufferBytes += buffer.data.size();
+        }
+        if (accessor.count * elementBytes > bufferBytes) {
+            throw InputError(what + ": count " + std::to_string(accessor.count) + " without a bufferView describes " +
+                             std::to_string(accessor.count * elementBytes) +
+                             " bytes, more than the file's buffers hold (" + std::to_string(bufferBytes) + ")");
+        }
+    }
     std::vector<T> out(accessor.count * size_t(components), T(0));
 
     // An accessor without a bufferView reads as zeros (sparse values may then replace some).

@@ -19,11 +19,17 @@ namespace {
 
 constexpr const char* kLafortuneExtension = "LUMAR_materials_lafortune";
 
-double finiteOr(double value, double fallback)
+// A scalar factor: finite (issue 16: 1e300 became float infinity) and, for factors the
+// specification bounds, clamped into [lo, hi] as before.
+double finiteFactor(double value, double lo, double hi, const std::string& what)
 {
-    return std::isfinite(value) ? value : fallback;
+    if (!std::isfinite(value)) {
+        throw InputError(what + " is not a finite number");
+    }
+    return std::clamp(value, lo, hi);
 }
 
+// glTF 2.0 bounds baseColorFactor and emissiveFactor to [0, 1] per component.
 template <int N>
 glm::vec<N, float> vectorFactor(const std::vector<double>& values, const glm::vec<N, float>& fallback,
                                 const std::string& what)
@@ -38,6 +44,9 @@ glm::vec<N, float> vectorFactor(const std::vector<double>& values, const glm::ve
     for (int i = 0; i < N; ++i) {
         if (!std::isfinite(values[size_t(i)])) {
             throw InputError(what + " holds a non-finite number");
+        }
+        if (values[size_t(i)] < 0.0 || values[size_t(i)] > 1.0) {
+            throw InputError(what + " holds " + std::to_string(values[size_t(i)]) + ", outside [0, 1]");
         }
         out[i] = float(values[size_t(i)]);
     }
@@ -114,8 +123,11 @@ float emissiveStrength(const tinygltf::Material& material, const std::string& wh
         return 1.0f;
     }
     const tinygltf::Value& strength = extension->second.Get("emissiveStrength");
-    if (!strength.IsNumber() || !std::isfinite(strength.GetNumberAsDouble()) || strength.GetNumberAsDouble() < 0.0) {
-        throw InputError(what + ": emissiveStrength must be a non-negative number");
+    // No bound in the extension; 1e6 keeps factor x strength finite in float.
+    constexpr double kMaxEmissiveStrength = 1e6;
+    if (!strength.IsNumber() || !std::isfinite(strength.GetNumberAsDouble()) || strength.GetNumberAsDouble() < 0.0 ||
+        strength.GetNumberAsDouble() > kMaxEmissiveStrength) {
+        throw InputError(what + ": emissiveStrength must be a number within [0, 1e6]");
     }
     return float(strength.GetNumberAsDouble());
 }
@@ -299,11 +311,15 @@ ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::str
         GltfMaterial material;
         material.name = source.name;
         material.baseColorFactor = vectorFactor<4>(pbr.baseColorFactor, glm::vec4(1.0f), what + " baseColorFactor");
-        material.metallicFactor = float(std::clamp(finiteOr(pbr.metallicFactor, 1.0), 0.0, 1.0));
-        material.roughnessFactor = float(std::clamp(finiteOr(pbr.roughnessFactor, 1.0), 0.0, 1.0));
+        material.metallicFactor = float(finiteFactor(pbr.metallicFactor, 0.0, 1.0, what + " metallicFactor"));
+        material.roughnessFactor = float(finiteFactor(pbr.roughnessFactor, 0.0, 1.0, what + " roughnessFactor"));
         material.emissiveFactor = vectorFactor<3>(source.emissiveFactor, glm::vec3(0.0f), what + " emissiveFactor") *
                                   emissiveStrength(source, what);
-        material.normalScale = float(finiteOr(source.normalTexture.scale, 1.0));
+        // No bound in the specification; beyond 1e6 the float would overflow in the shader.
+        if (!(std::abs(source.normalTexture.scale) <= 1e6)) {
+            throw InputError(what + " normalTexture.scale is not a number within [-1e6, 1e6]");
+        }
+        material.normalScale = float(source.normalTexture.scale);
         material.doubleSided = source.doubleSided;
 
         material.baseColorTexture = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, true,

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/file_bytes.h"
 #include "core/log.h"
+#include "gles_renderer/assets/gltf_json_check.h"
 
 namespace lumar::gltf {
 namespace {
@@ -145,6 +146,68 @@ void logLines(const std::filesystem::path& file, std::string_view text)
     }
 }
 
+// The JSON text: the whole file, or a checked GLB's first chunk.
+std::string_view jsonText(const std::vector<unsigned char>& bytes, bool binary)
+{
+    const auto* text = reinterpret_cast<const char*>(bytes.data());
+    if (!binary) {
+        return {text, bytes.size()};
+    }
+    return {text + 20, readLittleEndian32(bytes.data() + 12)};
+}
+
+// tinygltf reads external buffers and images through these callbacks. The uris were checked
+// already (gltf_json_check.h); this second check resolves symbolic links too, so a link in the
+// model's folder cannot lead outside it either, and applies the loader's size bound. tinygltf
+// also tries each uri relative to the working directory: that path fails the check.
+struct ModelFolder {
+    std::filesystem::path root; // canonical
+};
+
+bool insideFolder(const std::string& path, const ModelFolder& folder)
+{
+    std::error_code ec;
+    const std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    if (ec) {
+        return false;
+    }
+    const auto [rootEnd, unused] =
+        std::mismatch(folder.root.begin(), folder.root.end(), resolved.begin(), resolved.end());
+    return rootEnd == folder.root.end();
+}
+
+bool fileInsideFolder(const std::string& path, void* userData)
+{
+    std::error_code ec;
+    return insideFolder(path, *static_cast<const ModelFolder*>(userData)) && std::filesystem::is_regular_file(path, ec);
+}
+
+std::string pathAsIs(const std::string& path, void*)
+{
+    return path; // no expansion of '~' or variables: a uri is a path inside the folder
+}
+
+bool readFileInsideFolder(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* userData)
+{
+    if (!insideFolder(path, *static_cast<const ModelFolder*>(userData))) {
+        *err += "outside the model's folder";
+        return false;
+    }
+    try {
+        *out = readFileBytes(path, kMaxFileBytes);
+    } catch (const InputError& e) {
+        *err += e.what();
+        return false;
+    }
+    return true;
+}
+
+bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*)
+{
+    *err += "lumar does not write glTF files";
+    return false;
+}
+
 } // namespace
 
 tinygltf::Model parseGltfFile(const std::filesystem::path& file)
@@ -156,6 +219,13 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
     if (binary) {
         checkGlbContainer(bytes);
     }
+    checkGltfJson(jsonText(bytes, binary));
+    std::error_code ec;
+    ModelFolder folder{std::filesystem::weakly_canonical(
+        file.has_parent_path() ? file.parent_path() : std::filesystem::path("."), ec)};
+    if (ec) {
+        throw InputError("cannot resolve the model's folder: " + ec.message());
+    }
 
     tinygltf::Model model;
     ImageLoaderContext imageContext;
@@ -163,6 +233,7 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&loadImageChecked, &imageContext);
+    loader.SetFsCallbacks({&fileInsideFolder, &pathAsIs, &readFileInsideFolder, &refuseWrite, &folder});
     std::string err, warn;
     const std::string baseDir = file.parent_path().string();
     bool ok = false;

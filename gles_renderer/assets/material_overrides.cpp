@@ -39,8 +39,11 @@ void applyMaterialOverrides(GltfModel& model, const MaterialOverrides& overrides
         if (name == "*") {
             continue;
         }
+        // Captured through a plain reference: clang before 16 cannot capture a structured
+        // binding in a lambda (P1091), and Debian 12's clang 14 builds the fuzz targets.
+        const std::string& wanted = name;
         const bool found = std::any_of(model.materials.begin(), model.materials.end(),
-                                       [&](const GltfMaterial& m) { return m.name == name; });
+                                       [&](const GltfMaterial& m) { return m.name == wanted; });
         if (!found) {
             throw InputError(fileName + ":" + std::to_string(entry.line) + ": material " + quoteName(name) +
                              " matches no material of " + model.file.string() + " (" + materialNameList(model) + ")");

@@ -155,4 +155,10 @@ RadianceImageSize checkRadianceStream(std::span<const uint8_t> bytes)
     return size;
 }
 
+RadianceImageSize readRadianceHeader(std::span<const uint8_t> bytes)
+{
+    ByteCursor cursor(bytes);
+    return parseHeader(cursor);
+}
+
 } // namespace lumar

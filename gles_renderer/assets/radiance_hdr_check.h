@@ -21,4 +21,8 @@ struct RadianceImageSize {
 // is malformed or the data ends before the last pixel.
 RadianceImageSize checkRadianceStream(std::span<const uint8_t> bytes);
 
+// The header's size alone (the same checks on the header, none on the pixels): for limits
+// that refuse a file before its pixel stream is walked.
+RadianceImageSize readRadianceHeader(std::span<const uint8_t> bytes);
+
 } // namespace lumar
