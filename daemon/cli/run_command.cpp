@@ -67,11 +67,18 @@ public:
         sigemptyset(&action.sa_mask);
         for (size_t i = 0; i < kSignals.size(); ++i)
             sigaction(kSignals[i], &action, &old_[i]);
+        // A peer that went away (the preview window's X server, a status reader's socket)
+        // must be an EPIPE the code reports, not a signal that kills the daemon.
+        struct sigaction ignore {};
+        ignore.sa_handler = SIG_IGN;
+        sigemptyset(&ignore.sa_mask);
+        sigaction(SIGPIPE, &ignore, &oldPipe_);
     }
     ~LoopSignals()
     {
         for (size_t i = 0; i < kSignals.size(); ++i)
             sigaction(kSignals[i], &old_[i], nullptr);
+        sigaction(SIGPIPE, &oldPipe_, nullptr);
     }
     LoopSignals(const LoopSignals&) = delete;
     LoopSignals& operator=(const LoopSignals&) = delete;
@@ -79,6 +86,7 @@ public:
 private:
     static constexpr std::array<int, 3> kSignals{SIGINT, SIGTERM, SIGHUP};
     std::array<struct sigaction, 3> old_{};
+    struct sigaction oldPipe_ {};
 };
 
 // The headless sink of `run`: a still refreshed periodically, or a video of every frame. With

@@ -7,6 +7,8 @@
 #include <EGL/eglext.h>
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
+#include <poll.h>
+#include <sys/socket.h>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -16,6 +18,23 @@ namespace lumar {
 struct X11Window::XConnection {
     Display* display = nullptr;
     bool lost = false; // the connection broke: every X call is a no-op from here on
+
+    // Whether the connection still stands, asked of its socket before Xlib is: after an I/O
+    // error that Mesa's own use of the connection met first, Xlib's next request can crash
+    // (libX11 1.8: "request N would exceed buffer size", then a null request is written to).
+    bool alive()
+    {
+        if (lost || !display)
+            return false;
+        pollfd socket{ConnectionNumber(display), POLLIN, 0};
+        if (poll(&socket, 1, 0) > 0) {
+            char byte = 0;
+            if ((socket.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0 ||
+                recv(socket.fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) == 0)
+                lost = true;
+        }
+        return !lost;
+    }
 
     XConnection() = default;
     XConnection(const XConnection&) = delete;
@@ -185,7 +204,7 @@ X11Window::~X11Window()
     }
     // EGL lets go of the X connection before it closes.
     eglDisplay_.reset();
-    if (x_ && x_->display && !x_->lost) {
+    if (x_ && x_->alive()) {
         if (window_)
             XDestroyWindow(x_->display, window_);
         if (colormap_)
@@ -207,7 +226,7 @@ void X11Window::setAspectHint(int width, int height)
 
 void X11Window::fitFrame(int width, int height)
 {
-    if (x_->lost || width <= 0 || height <= 0)
+    if (!x_->alive() || width <= 0 || height <= 0)
         return;
     setAspectHint(width, height);
     XResizeWindow(x_->display, window_, unsigned(width), unsigned(height));
@@ -225,7 +244,7 @@ void X11Window::fitFrame(int width, int height)
 void X11Window::pollEvents()
 {
     Display* display = x_->display;
-    while (!x_->lost && XPending(display)) {
+    while (x_->alive() && XPending(display)) {
         XEvent event;
         XNextEvent(display, &event);
         if (event.type == ConfigureNotify) {
@@ -246,7 +265,7 @@ void X11Window::showSwapped()
     ++framesShown_;
     // One round trip a frame: the X server has drawn this frame before the next is rendered,
     // so a slow server slows the loop down instead of queueing frames without bound.
-    if (!x_->lost)
+    if (x_->alive())
         XSync(x_->display, False);
     pollEvents();
 }
