@@ -9,11 +9,10 @@ namespace lumar {
 PrefetchOptions prefetchOptionsFor(const std::string& cameraSource, bool realTime)
 {
     PrefetchOptions options;
-    const bool camera = cameraSource == "v4l2" || cameraSource == "libcamera";
-    const bool fakeLive = cameraSource == "fake" && realTime;
-    if (camera || fakeLive)
+    if (cameraSource == "v4l2" || cameraSource == "libcamera")
         options.mode = PrefetchMode::LatestOnly;
-    options.paceToFps = fakeLive;
+    else if (cameraSource == "fake" && realTime)
+        options.mode = PrefetchMode::JustInTime;
     return options;
 }
 
@@ -39,29 +38,32 @@ uint64_t PrefetchingSource::framesDropped() const
     return dropped_;
 }
 
-void PrefetchingSource::waitForCaptureTime(std::chrono::steady_clock::time_point& due)
+bool PrefetchingSource::waitToStartFrame()
 {
-    using Clock = std::chrono::steady_clock;
-    const auto interval = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps_));
-    const auto now = Clock::now();
-    if (due == Clock::time_point{} || now > due + interval)
-        due = now; // the first frame, or the source fell behind: no burst to catch up
-    {
-        std::unique_lock lock(mutex_);
-        changed_.wait_until(lock, due, [&] { return stopping_; });
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return stopping_ || (!slotHasFrame_ && !slotError_); });
+    if (stopping_)
+        return false;
+    // Done a quarter of a frame's making before the consumer is expected: a little early
+    // costs that much latency, a little late costs the consumer that much waiting.
+    const double leadS = consumerBusyS_ - 1.25 * frameTimeS_;
+    if (leadS > 0.0 && takenAt_ != Clock::time_point{}) {
+        const auto start = takenAt_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(leadS));
+        if (changed_.wait_until(lock, start, [&] { return stopping_; }))
+            return false;
     }
-    due += interval;
+    return true;
 }
 
 void PrefetchingSource::produce()
 {
     const bool latestOnly = options_.mode == PrefetchMode::LatestOnly;
-    const bool pace = options_.paceToFps && fps_ > 0.0;
-    std::chrono::steady_clock::time_point due{};
+    const bool justInTime = options_.mode == PrefetchMode::JustInTime;
     Frame work;
     for (;;) {
-        if (pace)
-            waitForCaptureTime(due);
+        if (justInTime && !waitToStartFrame())
+            return; // stopping: no frame to make
+        const auto started = Clock::now();
         bool gotFrame = false;
         std::exception_ptr error;
         try {
@@ -74,6 +76,10 @@ void PrefetchingSource::produce()
             error = std::current_exception();
         }
         std::unique_lock lock(mutex_);
+        if (justInTime) {
+            const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
+            frameTimeS_ = frameTimeS_ > 0.0 ? 0.8 * frameTimeS_ + 0.2 * seconds : seconds;
+        }
         // Latest only, a frame may take the place of a waiting frame; nothing else is dropped.
         const bool replacesFrame = latestOnly && gotFrame && !error;
         changed_.wait(lock, [&] { return stopping_ || (!slotError_ && (replacesFrame || !slotHasFrame_)); });
@@ -98,6 +104,10 @@ void PrefetchingSource::produce()
 bool PrefetchingSource::next(Frame& frame)
 {
     std::unique_lock lock(mutex_);
+    if (takenAt_ != Clock::time_point{}) {
+        const double busy = std::chrono::duration<double>(Clock::now() - takenAt_).count();
+        consumerBusyS_ = consumerBusyS_ > 0.0 ? 0.8 * consumerBusyS_ + 0.2 * busy : busy;
+    }
     changed_.wait(lock, [&] { return slotHasFrame_ || slotError_ || ended_; });
     if (slotError_) {
         const std::exception_ptr error = std::exchange(slotError_, nullptr);
@@ -109,6 +119,7 @@ bool PrefetchingSource::next(Frame& frame)
         return false;
     std::swap(frame, slot_);
     slotHasFrame_ = false;
+    takenAt_ = Clock::now();
     lock.unlock();
     changed_.notify_all();
     return true;

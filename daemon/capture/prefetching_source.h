@@ -1,14 +1,18 @@
 // Runs a CaptureSource on its own thread, ahead of the consumer, so capturing the next frame
 // (decoding a file, drawing the fake scene, waiting on a device) overlaps tracking and
-// rendering of the current one (DESIGN.md §3: capture runs off the render thread). Two ways
+// rendering of the current one (DESIGN.md §3: capture runs off the render thread). Three ways
 // to hand frames over:
 //  - in order: every frame and error comes out in the source's order, unchanged, one frame
 //    ahead, so an offline render stays deterministic;
-//  - latest only (a live camera): a frame that is still waiting when a newer one is ready is
+//  - latest only (a camera): a frame that is still waiting when a newer one is ready is
 //    dropped (and counted), so the consumer always gets the newest frame. A camera runs at
 //    its own rate whatever the consumer does; in order, a consumer slower than the camera
 //    would be handed frames about three frame intervals old (the one being captured and the
-//    one waiting in the slot ageing behind it). Errors are never dropped.
+//    one waiting in the slot ageing behind it). Errors are never dropped;
+//  - just in time (a source that makes frames when asked, the fake camera live): in order,
+//    but each frame is started so that it is done about when the consumer will ask for it
+//    (from the consumer's time between requests and the source's time per frame), so it
+//    waits little; drawing frames to drop instead would take the CPU from the consumer.
 // Three frame buffers cycle between the threads: no allocation per frame.
 #pragma once
 
@@ -25,18 +29,16 @@
 
 namespace lumar {
 
-enum class PrefetchMode { InOrder, LatestOnly };
+enum class PrefetchMode { InOrder, LatestOnly, JustInTime };
 
 struct PrefetchOptions {
     PrefetchMode mode = PrefetchMode::InOrder;
-    // The source draws frames as fast as asked (the fake camera): capture them at its frame
-    // rate instead, as a camera would, rather than spending the CPU on frames to drop.
-    bool paceToFps = false;
 };
 
 // How `lumar` hands the frames of camera.source over: latest only for cameras, which run at
-// their own rate (v4l2, libcamera, and the fake camera when `realTime`, as in `lumar run`);
-// in order for files and for offline use (`lumar render`, bench), where every frame counts.
+// their own rate (v4l2, libcamera); just in time for the fake camera when `realTime` (`lumar
+// run`); in order for files and for offline use (`lumar render`, bench), where every frame
+// counts.
 PrefetchOptions prefetchOptionsFor(const std::string& cameraSource, bool realTime);
 
 class PrefetchingSource final : public CaptureSource {
@@ -58,7 +60,9 @@ public:
 
 private:
     void produce();
-    void waitForCaptureTime(std::chrono::steady_clock::time_point& due);
+    // Just in time: waits until the slot is empty and the next frame is due to start; false
+    // when stopping.
+    bool waitToStartFrame();
 
     std::unique_ptr<CaptureSource> inner_;
     const PrefetchOptions options_;
@@ -75,6 +79,12 @@ private:
     bool ended_ = false;
     bool stopping_ = false;
     uint64_t dropped_ = 0;
+    // Just in time, smoothed: the consumer's time from taking a frame to asking for the next,
+    // and the source's time per frame; when the consumer last took a frame.
+    using Clock = std::chrono::steady_clock;
+    double consumerBusyS_ = 0.0;
+    double frameTimeS_ = 0.0;
+    Clock::time_point takenAt_{};
     std::thread worker_; // last member: starts after everything it uses exists
 };
 

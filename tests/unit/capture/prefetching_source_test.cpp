@@ -1,7 +1,9 @@
 // The prefetching decorator must hand out exactly what the source produced, in order,
 // including errors at the frame they happened, and shut down cleanly at any point.
+#include <chrono>
 #include <future>
 #include <optional>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -165,33 +167,43 @@ TEST(PrefetchingSource, LatestOnlyKeepsErrorsAndTheOrderOfWhatItHandsOver)
     }
 }
 
-TEST(PrefetchingSource, PacedLatestOnlyStillDeliversTheFakeCamerasFrames)
+TEST(PrefetchingSource, JustInTimeHandsOverEveryFrameOfTheFakeCameraInOrder)
 {
+    // Started when the consumer is expected, the frames are still the fake camera's own, one
+    // after another, none dropped; a consumer that takes its time changes only when they are
+    // drawn.
     CameraConfig config;
     config.width = 160;
     config.height = 120;
-    config.fps = 200.0;
     FakeCamera direct(config);
     const PrefetchOptions options = prefetchOptionsFor("fake", true);
-    ASSERT_EQ(options.mode, PrefetchMode::LatestOnly);
-    ASSERT_TRUE(options.paceToFps);
-    PrefetchingSource paced(std::make_unique<FakeCamera>(config), options);
+    ASSERT_EQ(options.mode, PrefetchMode::JustInTime);
+    PrefetchingSource source(std::make_unique<FakeCamera>(config), options);
     Frame a, b;
-    uint64_t previous = 0;
-    for (int k = 0; k < 3; ++k) {
-        ASSERT_TRUE(paced.next(b));
-        if (k > 0) {
-            EXPECT_GT(b.sequence, previous);
-        }
-        previous = b.sequence;
-        // The same picture as the fake camera draws for that frame.
-        while (a.sequence < b.sequence || k == 0) {
-            ASSERT_TRUE(direct.next(a));
-            if (a.sequence == b.sequence)
-                break;
-        }
+    for (int k = 0; k < 6; ++k) {
+        ASSERT_TRUE(direct.next(a));
+        ASSERT_TRUE(source.next(b));
+        EXPECT_EQ(a.sequence, b.sequence);
         EXPECT_EQ(a.rgb.data, b.rgb.data);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5 * k)); // the consumer at work
     }
+    EXPECT_EQ(source.framesDropped(), 0u);
+}
+
+TEST(PrefetchingSource, JustInTimeKeepsErrorsAndTheEnd)
+{
+    PrefetchOptions options;
+    options.mode = PrefetchMode::JustInTime;
+    PrefetchingSource source(std::make_unique<ScriptedSource>(4, 1), options);
+    Frame f;
+    ASSERT_TRUE(source.next(f));
+    EXPECT_EQ(f.sequence, 0u);
+    EXPECT_THROW(source.next(f), InputError);
+    ASSERT_TRUE(source.next(f));
+    EXPECT_EQ(f.sequence, 2u);
+    ASSERT_TRUE(source.next(f));
+    EXPECT_EQ(f.sequence, 3u);
+    EXPECT_FALSE(source.next(f));
 }
 
 TEST(PrefetchingSource, TheModeFollowsTheSourceKindAndTheCommand)
@@ -199,12 +211,11 @@ TEST(PrefetchingSource, TheModeFollowsTheSourceKindAndTheCommand)
     for (const bool realTime : {false, true}) {
         EXPECT_EQ(prefetchOptionsFor("v4l2", realTime).mode, PrefetchMode::LatestOnly);
         EXPECT_EQ(prefetchOptionsFor("libcamera", realTime).mode, PrefetchMode::LatestOnly);
-        EXPECT_FALSE(prefetchOptionsFor("v4l2", realTime).paceToFps) << "the device paces itself";
         EXPECT_EQ(prefetchOptionsFor("y4m", realTime).mode, PrefetchMode::InOrder);
         EXPECT_EQ(prefetchOptionsFor("images", realTime).mode, PrefetchMode::InOrder);
     }
     EXPECT_EQ(prefetchOptionsFor("fake", false).mode, PrefetchMode::InOrder) << "lumar render, bench";
-    EXPECT_EQ(prefetchOptionsFor("fake", true).mode, PrefetchMode::LatestOnly) << "lumar run";
+    EXPECT_EQ(prefetchOptionsFor("fake", true).mode, PrefetchMode::JustInTime) << "lumar run";
 }
 
 } // namespace
