@@ -63,8 +63,9 @@ public:
     // of reading it back; output() then stays empty.
     // `replayFrames` > 0: that many frames are captured before the first step and served
     // from memory (capture/replay_source.h), as `lumar bench --replay` measures.
-    // `realTime`: frames are shown as they come (`lumar run`): a camera, the fake one too,
-    // hands over its newest frame and drops stale ones (capture/prefetching_source.h).
+    // `realTime`: frames are shown as they come (`lumar run`): the fake camera draws each
+    // frame just in time for the pipeline, except on a software rasteriser, whose CPU it would
+    // take (capture/prefetching_source.h). Cameras hand over their newest frame in any case.
     explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr, int replayFrames = 0,
                       bool realTime = false);
     [[nodiscard]] RenderStats renderStats() const;
