@@ -31,6 +31,10 @@ namespace {
 // A marker missed for a few frames (motion blur, a hand passing) keeps its last pose so
 // objects do not flicker; after that they disappear rather than float in a stale place.
 constexpr uint64_t kMarkerHoldFrames = 5;
+// The largest material texture side on a software rasteriser, which keeps every texture with
+// its mips in process memory: CesiumMilkTruck's 2048² base colour alone holds 22 MB as RGBA8
+// with mips, 5.6 MB at 1024², while at 1280x720 the truck rarely covers 1024 pixels.
+constexpr int kSoftwareMaterialTextureLimit = 1024;
 
 double millisecondsSince(std::chrono::steady_clock::time_point start)
 {
@@ -115,6 +119,26 @@ bool boardHasQuirk(const Config& config, std::string_view quirk)
     return config.board && config.board->hasQuirk(quirk);
 }
 
+// GL_RENDERER of this machine's GLES, asked once; empty without EGL (the renderer will say so
+// when it is created).
+const std::string& glRendererName()
+{
+    static const std::string name = [] {
+        try {
+            return probeGl().glRenderer;
+        } catch (const RuntimeError&) {
+            return std::string();
+        }
+    }();
+    return name;
+}
+
+bool isSoftwareRasteriser(const std::string& renderer)
+{
+    return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos ||
+           renderer.find("swrast") != std::string::npos;
+}
+
 // What the camera is opened with once the board has had its say: no zero-copy on a board
 // with the no-dma-buf-import quirk, and camera.convert = "auto" decided — YCbCr to RGB on the
 // GPU unless the GLES implementation is a software rasteriser, where the full-screen
@@ -128,15 +152,8 @@ CameraConfig withConversionDecided(CameraConfig camera, const Config& config)
     }
     if (camera.convert != "auto" || (camera.source != "v4l2" && camera.source != "libcamera"))
         return camera;
-    std::string renderer;
-    try {
-        renderer = probeGl().glRenderer;
-    } catch (const RuntimeError&) {
-        // No EGL: the renderer will say so when it is created.
-    }
-    const bool software = renderer.find("llvmpipe") != std::string::npos ||
-                          renderer.find("softpipe") != std::string::npos ||
-                          renderer.find("swrast") != std::string::npos;
+    const std::string renderer = glRendererName();
+    const bool software = isSoftwareRasteriser(renderer);
     camera.convert = software || renderer.empty() ? "cpu" : "gpu";
     LUMAR_LOG(App, Info) << "camera.convert = auto: converting YCbCr on the "
                          << (camera.convert == "gpu" ? "GPU" : "CPU") << " (renderer "
@@ -185,6 +202,9 @@ std::unique_ptr<SceneRenderer> makeRenderer(const Config& config, int width, int
                                             const WindowTarget* window)
 {
     RenderOptions options = renderOptionsFor(config);
+    // A software rasteriser without a board profile saying so caps its textures too.
+    if (options.materialTextureLimit == 0 && isSoftwareRasteriser(glRendererName()))
+        options.materialTextureLimit = kSoftwareMaterialTextureLimit;
     options.profile = profile;
     if (window)
         options.display = window->eglDisplay();
@@ -239,10 +259,12 @@ RenderOptions renderOptionsFor(const Config& config)
                                     : config.shadows.resolution == "quarter" ? 4
                                                                              : 2;
     maps.phantomsShowCamera = rendering.phantomsShowCamera;
+    if (boardHasQuirk(config, "software-renderer"))
+        options.materialTextureLimit = kSoftwareMaterialTextureLimit;
     return options;
 }
 
-Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int replayFrames)
+Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int replayFrames, bool realTime)
     : config_(config), profile_(profile), window_(window)
 {
     // Constructed first, so destroyed last: once the loaded models and maps below are freed.
@@ -255,8 +277,15 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
     // served just when asked for they carry no wait in a hand-over slot into the latency.
     if (replayFrames > 0)
         capture_ = std::make_unique<ReplaySource>(std::move(source), replayFrames);
-    else
-        capture_ = std::make_unique<PrefetchingSource>(std::move(source));
+    else {
+        // The fake camera drawn just in time for the pipeline competes with a software
+        // rasteriser for the CPU at the end of each frame: on llvmpipe with 2 cores, car.toml's
+        // `lumar run` fell from ~24 s to ~41 s for 120 frames (medians of 5, load 7) while its
+        // latency p50 fell from 315-820 to 165-255 ms; there it keeps its frames in order.
+        const bool justInTime = realTime && !isSoftwareRasteriser(glRendererName());
+        capture_ = std::make_unique<PrefetchingSource>(std::move(source),
+                                                       prefetchOptionsFor(config_.camera.source, justInTime));
+    }
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = makeTracker(config_, intrinsics_);
 
@@ -273,6 +302,18 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
     applyLight();
     renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(models);
+}
+
+bool Pipeline::capturePacesItself() const
+{
+    const auto* prefetching = dynamic_cast<const PrefetchingSource*>(capture_.get());
+    return prefetching && prefetching->mode() == PrefetchMode::LatestOnly;
+}
+
+uint64_t Pipeline::framesDropped() const
+{
+    const auto* prefetching = dynamic_cast<const PrefetchingSource*>(capture_.get());
+    return prefetching ? prefetching->framesDropped() : 0;
 }
 
 void Pipeline::releaseLoadingMemory()

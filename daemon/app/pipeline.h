@@ -63,7 +63,11 @@ public:
     // of reading it back; output() then stays empty.
     // `replayFrames` > 0: that many frames are captured before the first step and served
     // from memory (capture/replay_source.h), as `lumar bench --replay` measures.
-    explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr, int replayFrames = 0);
+    // `realTime`: frames are shown as they come (`lumar run`): the fake camera draws each
+    // frame just in time for the pipeline, except on a software rasteriser, whose CPU it would
+    // take (capture/prefetching_source.h). Cameras hand over their newest frame in any case.
+    explicit Pipeline(const Config& config, bool profile = false, WindowTarget* window = nullptr, int replayFrames = 0,
+                      bool realTime = false);
     [[nodiscard]] RenderStats renderStats() const;
     ~Pipeline();
     Pipeline(const Pipeline&) = delete;
@@ -108,6 +112,10 @@ public:
     [[nodiscard]] const CameraIntrinsics& intrinsics() const { return intrinsics_; }
     [[nodiscard]] double fps() const { return capture_->fps(); }
     [[nodiscard]] const CaptureSource& captureSource() const { return *capture_; }
+    // The capture runs at its own rate and hands over its newest frame: no need to pace.
+    [[nodiscard]] bool capturePacesItself() const;
+    // Frames the capture dropped for a newer one before the pipeline took them.
+    [[nodiscard]] uint64_t framesDropped() const;
 
 private:
     struct PlacedObject {

@@ -24,6 +24,7 @@ std::string statusJson(const RunStatus& s)
         {"latency_ms", s.latencyP50Ms && s.latencyP99Ms
                            ? Json{{"p50", jsonDecimals(*s.latencyP50Ms, 1)}, {"p99", jsonDecimals(*s.latencyP99Ms, 1)}}
                            : Json(nullptr)},
+        {"frames_dropped", s.framesDropped},
         {"markers_visible", s.markersVisible},
         {"camera", s.camera},
         {"config", s.config}};

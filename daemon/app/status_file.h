@@ -2,6 +2,7 @@
 // programs, rewritten atomically (write beside, rename over) so a reader never sees half a file.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -25,6 +26,8 @@ struct RunStatus {
     // Capture-to-present latency over the latest frames (LatencyWindow); null until known.
     std::optional<double> latencyP50Ms;
     std::optional<double> latencyP99Ms;
+    // Camera frames dropped for a newer one (capture/prefetching_source.h) since start-up.
+    uint64_t framesDropped = 0;
 };
 
 std::string statusJson(const RunStatus& status);

@@ -285,7 +285,11 @@ struct FakeCamera::Impl {
     CameraIntrinsics intrinsics;
     FakeTrajectory trajectory;
     bool environment = false; // an environment map surrounds and lights the table
-    TableTexture table;       // room: lit by the lamp; environment: the albedo as code values
+    // Room only: the table lit by the lamp, kept for every frame. Under an environment map the
+    // wood's albedo is only needed to light the table (Exposed::ownTable), so it is made
+    // afresh from the seed each time and freed: 16.8 MB less for the camera's lifetime, at
+    // the cost of remaking it (tens of ms) when the exposure changes.
+    std::optional<TableTexture> table;
     SensorNoise noise;
     SrgbEncoder encoder;
     std::vector<TagSurface> tags;
@@ -310,12 +314,14 @@ struct FakeCamera::Impl {
 
     explicit Impl(const CameraConfig& c)
         : config(c), intrinsics(defaultIntrinsics(c.width, c.height)), trajectory(c.fakeTags),
-          environment(!c.fakeEnvironment.empty()), table(c.seed, !environment), noise(c.noiseSigma),
-          requestedExposure(c.exposure)
+          environment(!c.fakeEnvironment.empty()), noise(c.noiseSigma), requestedExposure(c.exposure)
     {
         for (int level = 0; level < kFloorLevels; ++level) {
             const float radiusSquared = (float(level) + 0.5f) / kFloorLevelsPerSquareMetre;
             floorLevels[size_t(level)] = fake_scene::packRgb(fake_scene::floorColour(radiusSquared));
+        }
+        if (!environment) {
+            table.emplace(c.seed, true);
         }
         tagsMinX = tagsMinY = INFINITY;
         tagsMaxX = tagsMaxY = -INFINITY;
@@ -384,13 +390,13 @@ struct FakeCamera::Impl {
                 out->background[i] = out->remapped(floorLevels[i]);
             }
             if (out->remapIsIdentity) {
-                out->table = table.texels();
+                out->table = table->texels();
                 return out;
             }
             const size_t count = size_t(TableTexture::kResolution) * TableTexture::kResolution;
             out->ownTable = allocatePacked(count);
             for (size_t i = 0; i < count; ++i) {
-                out->ownTable[i] = out->remapped(table.texels()[i]);
+                out->ownTable[i] = out->remapped(table->texels()[i]);
             }
             out->table = out->ownTable.get();
             return out;
@@ -421,7 +427,8 @@ struct FakeCamera::Impl {
             }
         }
         PackedBuffer lit = allocatePacked(size_t(n) * n);
-        const fake_scene::PackedRgb* albedo = table.texels();
+        const TableTexture albedoTable(config.seed, false);
+        const fake_scene::PackedRgb* albedo = albedoTable.texels();
         const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
         using fake_scene::kLaneBits;
         using fake_scene::kLaneMask;

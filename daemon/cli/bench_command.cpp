@@ -144,6 +144,7 @@ int benchCommand(const BenchCommandOptions& options)
             {"latency_ms", latencyMs.empty()
                                ? Json(nullptr)
                                : Json{{"p50", jsonDecimals(latencyP50, 3)}, {"p99", jsonDecimals(latencyP99, 3)}}},
+            {"frames_dropped", pipeline.framesDropped()},
             {"stages_ms", std::move(stages)},
             {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
             {"profiled", profile},

@@ -141,7 +141,7 @@ struct RunningScene {
     OutputConfig output; // what sink and statusFile were made from
 
     RunningScene(const Config& config, WindowTarget* kms)
-        : display(kms), pipeline(std::make_unique<Pipeline>(config, false, kms)),
+        : display(kms), pipeline(std::make_unique<Pipeline>(config, false, kms, 0, true)),
           sink(std::make_unique<HeadlessSink>(config.output, pipeline->fps(), kms)),
           statusFile(config.output.statusPath), output(config.output)
     {
@@ -344,6 +344,7 @@ int runCommand(const RunCommandOptions& options)
             status.objectsDrawn = report.objectsDrawn;
             status.latencyP50Ms = latency.percentile(0.5);
             status.latencyP99Ms = latency.percentile(0.99);
+            status.framesDropped = scene->pipeline->framesDropped();
             status.markersVisible.clear();
             for (const TagDetection& d : report.detections)
                 status.markersVisible.push_back(d.id);
@@ -357,7 +358,9 @@ int runCommand(const RunCommandOptions& options)
             framesInWindow = 0;
             windowStart = now;
         }
-        sleepUntilSignalled(paceStart + paceFrames * frameInterval());
+        // A camera paces the loop itself: next() waits for its newest frame.
+        if (!scene->pipeline->capturePacesItself())
+            sleepUntilSignalled(paceStart + paceFrames * frameInterval());
     }
     notifier.stopping();
     scene->sink->finish(scene->pipeline->output());

@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+
+#include <stb_image_resize.h>
+
+#include "core/error.h"
 
 namespace lumar {
 
@@ -10,8 +15,39 @@ int mipLevelCount(int width, int height)
     return std::bit_width(unsigned(std::max({width, height, 1})));
 }
 
-GlTexture uploadMaterialTexture(const Image8& rgba, bool srgb)
+std::pair<int, int> cappedTextureSize(int width, int height, int maxSize)
 {
+    const int larger = std::max(width, height);
+    if (maxSize <= 0 || larger <= maxSize)
+        return {width, height};
+    const double scale = double(maxSize) / double(larger);
+    const auto side = [&](int n) { return std::clamp(int(std::lround(double(n) * scale)), 1, maxSize); };
+    return {side(width), side(height)};
+}
+
+Image8 downscaleTexture(const Image8& rgba, int width, int height, bool srgb)
+{
+    Image8 out(width, height, 4);
+    // stb's default downsampling filter (Mitchell) over the wrapped edges the sampler repeats;
+    // sRGB colour is filtered in linear light and weighted by alpha, data maps (normals,
+    // metallic-roughness) channel by channel as stored.
+    const int ok = stbir_resize_uint8_generic(
+        rgba.data.data(), rgba.width, rgba.height, rgba.width * 4, out.data.data(), width, height, width * 4, 4,
+        srgb ? 3 : STBIR_ALPHA_CHANNEL_NONE, 0, STBIR_EDGE_WRAP, STBIR_FILTER_DEFAULT,
+        srgb ? STBIR_COLORSPACE_SRGB : STBIR_COLORSPACE_LINEAR, nullptr);
+    if (!ok)
+        throw RuntimeError("downscaling a " + std::to_string(rgba.width) + "x" + std::to_string(rgba.height) +
+                           " texture failed");
+    return out;
+}
+
+GlTexture uploadMaterialTexture(const Image8& image, bool srgb, int maxSize)
+{
+    const auto [width, height] = cappedTextureSize(image.width, image.height, maxSize);
+    Image8 scaled;
+    if (width != image.width || height != image.height)
+        scaled = downscaleTexture(image, width, height, srgb);
+    const Image8& rgba = scaled.data.empty() ? image : scaled;
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
     glTexStorage2D(GL_TEXTURE_2D, mipLevelCount(rgba.width, rgba.height), srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, rgba.width,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 
 #include "core/image.h"
 #include "gles_renderer/gl/gl_object.h"
@@ -12,9 +13,18 @@ namespace lumar {
 // Number of mip levels of a full chain down to 1x1.
 int mipLevelCount(int width, int height);
 
+// The size a width x height texture is uploaded at when its larger side may be at most
+// `maxSize` (0: no limit): scaled down keeping its aspect ratio, each side at least 1.
+std::pair<int, int> cappedTextureSize(int width, int height, int maxSize);
+
+// A 4-channel image scaled down to width x height for a texture sampled with repeat wrapping:
+// filtered in linear light when `srgb` (alpha as coverage), else channel by channel.
+Image8 downscaleTexture(const Image8& rgba, int width, int height, bool srgb);
+
 // Uploads a 4-channel image (row 0 = texture coordinate t = 0, glTF's uv (0, 0)) with
-// mipmaps, trilinear filtering and repeat wrapping. The caller checks the shape.
-GlTexture uploadMaterialTexture(const Image8& rgba, bool srgb);
+// mipmaps, trilinear filtering and repeat wrapping. The caller checks the shape. An image
+// larger than `maxSize` (0: no limit) is scaled down to fit first (cappedTextureSize).
+GlTexture uploadMaterialTexture(const Image8& rgba, bool srgb, int maxSize = 0);
 
 // A 1x1 texture of one texel, for materials without that texture.
 GlTexture makeSolidTexture(uint8_t r, uint8_t g, uint8_t b, uint8_t a);

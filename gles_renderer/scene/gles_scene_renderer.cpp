@@ -64,7 +64,8 @@ public:
           readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
           shadows_(options.shadows),
           cameraPhantoms_(options.environmentMaps.dynamic && options.environmentMaps.phantomsShowCamera),
-          mirrorSize_(options.environmentMaps.ibl.mirrorSize), profile_(options.profile)
+          mirrorSize_(options.environmentMaps.ibl.mirrorSize), materialTextureLimit_(options.materialTextureLimit),
+          profile_(options.profile)
     {
         meshes_.setShadowMap(shadows_.map());
         checkGlError("creating the scene renderer");
@@ -91,7 +92,7 @@ public:
     ModelId addModel(const GltfModel& model) override
     {
         context_.makeCurrent();
-        models_.push_back(uploadModel(model, defaults_));
+        models_.push_back(uploadModel(model, defaults_, materialTextureLimit_));
         LUMAR_LOG(Render, Debug) << "uploaded " << model.file.string() << " as model " << models_.size() - 1;
         return ModelId(models_.size() - 1);
     }
@@ -322,6 +323,7 @@ private:
     ShadowPass shadows_;
     bool cameraPhantoms_; // phantoms carry the camera image in the environment maps
     int mirrorSize_;
+    int materialTextureLimit_; // RenderOptions::materialTextureLimit
     EnvironmentSource environmentSource_ = EnvironmentSource::Hdr;
     std::unique_ptr<CameraEnvironment> cameraEnvironment_; // made for the first camera source
     bool orientationTracked_ = false;                      // setEnvironmentRotation() since the last frame

@@ -170,7 +170,7 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
 
 } // namespace
 
-GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
+GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, int textureLimit)
 {
     // Validate everything before the first upload, so bad input leaves no half-made model.
     GLint maxTextureSize = 0;
@@ -203,7 +203,7 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults)
     gpu.textures.resize(model.textures.size());
     for (size_t t = 0; t < model.textures.size(); ++t)
         if (textureUsed[t])
-            gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb);
+            gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb, textureLimit);
     for (const GltfMaterial& material : model.materials)
         gpu.materials.push_back(uploadMaterial(material, gpu.textures, defaults));
     gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, defaults));

@@ -70,6 +70,7 @@ inline constexpr double kProxyMaxCellPixels = 1.0;
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels);
 
 // Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.
-GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults);
+// Textures larger than `textureLimit` (0: no limit) are scaled down to fit on upload.
+GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, int textureLimit = 0);
 
 } // namespace lumar

@@ -108,6 +108,9 @@ struct RenderOptions {
     int samples = 1;
     EnvironmentMapOptions environmentMaps;
     ShadowOptions shadows;
+    // The largest side of a material texture; larger ones are scaled down when uploaded (0:
+    // GL's own limit). A software rasteriser keeps every texture and its mips in memory.
+    int materialTextureLimit = 0;
     bool profile = false;
     // The EGL display to render on: a KMS display's (KmsDisplay::eglDisplay()) to present()
     // there; null: the process' surfaceless display (headless).
