@@ -1,0 +1,55 @@
+#version 300 es
+// Adds the lens effects onto the frame (gles_renderer/scene/lens_effects.h). The effects are
+// light scattered in the lens, added to what reached the sensor: the frame's pixel is taken
+// back through the camera's response (camera_response.glsl) to linear light, the bloom and
+// the glare are added, and the response and the sRGB encoding applied again. Where the effects
+// add nothing the pixel is left as it was (discarded), exactly.
+precision highp float;
+precision highp sampler2D;
+
+uniform sampler2D uFrame;  // the frame so far, sRGB-encoded (a copy: the target is drawn into)
+uniform sampler2D uBloom;  // half the frame's size, or unused
+uniform sampler2D uGlare;  // a quarter of the frame's size, or unused
+uniform vec2 uIntensity;   // x: bloom, y: glare (0: off)
+uniform bool uRgbm;
+
+out vec4 fragColor;
+
+#include "rgbm.glsl"
+#include "lens.glsl"
+#include "camera_response.glsl"
+
+// The least light the effects must add to a pixel to touch it.
+const float kNothing = 1e-5;
+
+vec3 decodeSrgb(vec3 c)
+{
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
+
+vec3 encodeSrgb(vec3 c)
+{
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+// cameraResponse's inverse; white (which the shoulder only reaches at infinity) comes back as
+// the light that makes 254.5 / 255.
+vec3 inverseResponse(vec3 y)
+{
+    vec3 shoulder = kResponseKnee - (1.0 - kResponseKnee) * log(1.0 - (min(y, 254.5 / 255.0) - kResponseKnee) /
+                                                                      (1.0 - kResponseKnee));
+    return mix(y, shoulder, step(vec3(kResponseKnee), y));
+}
+
+void main()
+{
+    vec3 added = vec3(0.0);
+    if (uIntensity.x > 0.0)
+        added += uIntensity.x * sampleRadiance(uBloom, gl_FragCoord.xy * 0.5, uRgbm);
+    if (uIntensity.y > 0.0)
+        added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * 0.25, uRgbm);
+    if (max(added.r, max(added.g, added.b)) < kNothing)
+        discard;
+    vec3 frame = decodeSrgb(texelFetch(uFrame, ivec2(gl_FragCoord.xy), 0).rgb);
+    fragColor = vec4(encodeSrgb(cameraResponse(inverseResponse(frame) + added)), 1.0);
+}
