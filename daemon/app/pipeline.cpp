@@ -233,6 +233,17 @@ RenderOptions renderOptionsFor(const Config& config)
     options.shadows.mapSize = config.shadows.mapSize;
     options.shadows.softness = float(config.shadows.softness);
     maps.phantomsShowCamera = rendering.phantomsShowCamera;
+    const LensConfig& lens = rendering.lens;
+    options.lens = {.enabled = lens.enabled,
+                    .threshold = float(lens.threshold),
+                    .bloom = lens.bloom,
+                    .bloomIntensity = float(lens.bloomIntensity),
+                    .bloomRadius = float(lens.bloomRadius),
+                    .glare = lens.glare,
+                    .glareStreaks = lens.glareStreaks,
+                    .glareLength = float(lens.glareLength),
+                    .glareIntensity = float(lens.glareIntensity),
+                    .glareAngle = float(lens.glareAngle)};
     return options;
 }
 
