@@ -9,7 +9,8 @@ precision highp sampler2D;
 
 uniform sampler2D uFrame;  // the frame so far, sRGB-encoded (a copy: the target is drawn into)
 uniform sampler2D uBloom;  // half the frame's size, or unused
-uniform sampler2D uGlare;  // a quarter of the frame's size, or unused
+uniform sampler2D uGlare;  // smaller than the frame by 1 / uGlareScale, or unused
+uniform float uGlareScale;
 uniform vec2 uIntensity;   // x: bloom, y: glare (0: off)
 uniform bool uRgbm;
 
@@ -47,7 +48,7 @@ void main()
     if (uIntensity.x > 0.0)
         added += uIntensity.x * sampleRadiance(uBloom, gl_FragCoord.xy * 0.5, uRgbm);
     if (uIntensity.y > 0.0)
-        added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * 0.25, uRgbm);
+        added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * uGlareScale, uRgbm);
     if (max(added.r, max(added.g, added.b)) < kNothing)
         discard;
     vec3 frame = decodeSrgb(texelFetch(uFrame, ivec2(gl_FragCoord.xy), 0).rgb);

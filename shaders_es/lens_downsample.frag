@@ -7,6 +7,7 @@ precision highp sampler2D;
 
 uniform sampler2D uSource;
 uniform float uThreshold;
+uniform bool uSourceRgbm; // the radiance image's format may differ from the pyramid's
 uniform bool uRgbm;
 
 out vec4 fragColor;
@@ -17,9 +18,9 @@ out vec4 fragColor;
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy) * 2;
-    vec3 sum = max(fetchRadiance(uSource, p, uRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 0), uRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(0, 1), uRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 1), uRgbm) - uThreshold, 0.0);
+    vec3 sum = max(fetchRadiance(uSource, p, uSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(1, 0), uSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(0, 1), uSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(1, 1), uSourceRgbm) - uThreshold, 0.0);
     fragColor = encodeMapTexel(0.25 * sum, uRgbm);
 }

@@ -6,7 +6,7 @@
 // renders, else RGBA8 RGBM like the environment maps. After the mesh pass a bright pass and a
 // pyramid of 2 x 2 box downsamples (half size first) hold the light above the threshold; the
 // bloom climbs back up it, every level bilinearly doubled and mixed with the next finer one so
-// each level has an equal share; the glare streaks gather the quarter-size level along the
+// each level has an equal share; the glare streaks gather the eighth-size level along the
 // configured rays. Both conserve the bright light's energy (sum of radiance x area), scaled by
 // their intensities, and are added to the frame in linear light (lens_composite.frag), which
 // leaves every pixel they do not reach exactly as it was.
@@ -24,8 +24,9 @@ namespace lumar {
 class LensEffects {
 public:
     // Needs a current GLES 3 context; attaches its radiance image to `target`'s framebuffer,
-    // where it stays inert until beginVirtual(). `rgbm`: RGBA8 RGBM images (no float format
-    // renders). Throws InputError for options out of range.
+    // where it stays inert until beginVirtual(). `rgbm`: no float format renders, every image
+    // is RGBA8 RGBM (the radiance too, as mesh.frag writes it where the maps are RGBM).
+    // Throws InputError for options out of range.
     LensEffects(const RenderTarget& target, const LensOptions& options, bool rgbm);
 
     LensEffects(const LensEffects&) = delete;
@@ -41,11 +42,12 @@ public:
     // Test access. The radiance image the objects are drawn into (the frame's size).
     [[nodiscard]] GLuint radianceTexture() const { return radiance_.name(); }
     // The bright light above the threshold, the bloom and the glare as last computed, linear,
-    // decoded from RGBM; each at its own size (half, half and a quarter of the frame's).
+    // decoded from RGBM; each at its own size (half, half and an eighth of the frame's).
     [[nodiscard]] ImageF readBright() const;
     [[nodiscard]] ImageF readBloom() const;
     [[nodiscard]] ImageF readGlare() const;
-    [[nodiscard]] bool rgbm() const { return rgbm_; }
+    [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
+    [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
 
 private:
     struct Level {
@@ -60,6 +62,7 @@ private:
     void copyFrame(const RenderTarget& target);
 
     LensOptions options_;
+    bool radianceRgbm_;
     bool rgbm_;
     int width_;
     int height_;
@@ -71,6 +74,7 @@ private:
     std::vector<Level> down_; // [0]: half size, thresholded
     std::vector<Level> up_;   // up_[k]: the bloom from level k down (up_.back() unused)
     int bloomLevels_ = 0;
+    GLint sourceRgbm_ = -1; // lens_downsample.frag's
     Level glare_;
     Level frameCopy_; // RGBA8 copy of the frame, read by the composite
     GlProgram downsample_;

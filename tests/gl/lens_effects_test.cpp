@@ -20,6 +20,7 @@ constexpr int kSize = 128;             // the frame, square
 constexpr int kSpot = 64;              // the bright texel's column and row
 constexpr float kSpotRadiance = 11.0f; // within RGBM's range (16)
 constexpr float kThreshold = 1.0f;
+constexpr int kGlareScale = 8; // the glare image is this many times smaller
 
 // Energy of an image (sum over texels of the channel mean) in frame pixels: a texel of an
 // image `scale` times smaller covers scale^2 of them.
@@ -45,7 +46,11 @@ double energyWithin(const ImageF& image, int scale, double radius)
     return sum * scale * scale;
 }
 
-class Lens : public ::testing::TestWithParam<bool> { // the parameter: RGBM images
+// The images' formats: all RGBA16F; the radiance RGBA16F and the pyramid RGBM (a software
+// rasteriser's choice); all RGBM (no float format renders).
+enum class Formats { Float, Packed, Rgbm };
+
+class Lens : public ::testing::TestWithParam<Formats> {
 protected:
     void SetUp() override
     {
@@ -60,14 +65,16 @@ protected:
     std::unique_ptr<LensEffects> applyToSpot(const LensOptions& options, float radiance)
     {
         target_.emplace(kSize, kSize, 1);
-        auto lens = std::make_unique<LensEffects>(*target_, options, GetParam());
+        LensOptions formatted = options;
+        formatted.images = GetParam() == Formats::Float ? LensImageFormat::Float : LensImageFormat::Rgbm;
+        auto lens = std::make_unique<LensEffects>(*target_, formatted, GetParam() == Formats::Rgbm);
         target_->bindForDrawing();
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT);
         lens->beginVirtual();
         lens->endVirtual();
         glBindTexture(GL_TEXTURE_2D, lens->radianceTexture());
-        if (lens->rgbm()) {
+        if (lens->radianceRgbm()) {
             // rgbm.glsl's encoding.
             const float m = std::ceil(radiance / 16.0f * 255.0f) / 255.0f;
             const auto code = uint8_t(std::lround(std::min(1.0f, radiance / (m * 16.0f)) * 255.0f));
@@ -139,22 +146,22 @@ TEST_P(Lens, NothingBloomsBelowTheThreshold)
     const auto lens = applyToSpot(options, 0.9f * kThreshold);
     EXPECT_EQ(energy(lens->readBright(), 2), 0.0);
     EXPECT_EQ(energy(lens->readBloom(), 2), 0.0);
-    EXPECT_EQ(energy(lens->readGlare(), 4), 0.0);
+    EXPECT_EQ(energy(lens->readGlare(), kGlareScale), 0.0);
     const Image8 out = frame();
     for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x)
             ASSERT_EQ(out.at(x, y)[0] + out.at(x, y)[1] + out.at(x, y)[2], 0) << x << "," << y;
 }
 
-// The glare's energy along a ray through the spot (a thin strip of quarter-size texels from 8
-// to 32 pixels away) against the same strip turned half-way between two rays.
+// The glare's energy along a ray through the spot (the glare's texels from 8 to 32 pixels
+// away) against the same strip turned half-way between two rays.
 double stripEnergy(const ImageF& glare, double angleDegrees)
 {
     const double a = angleDegrees * std::numbers::pi / 180.0;
     double sum = 0.0;
     for (double t = 8.0; t <= 32.0; t += 4.0) {
-        const int x = int(std::floor((kSpot + 0.5 + t * std::cos(a)) / 4.0));
-        const int y = int(std::floor((kSpot + 0.5 + t * std::sin(a)) / 4.0));
+        const int x = int(std::floor((kSpot + 0.5 + t * std::cos(a)) / kGlareScale));
+        const int y = int(std::floor((kSpot + 0.5 + t * std::sin(a)) / kGlareScale));
         if (x >= 0 && y >= 0 && x < glare.width && y < glare.height)
             sum += glare.at(x, y)[0];
     }
@@ -164,7 +171,7 @@ double stripEnergy(const ImageF& glare, double angleDegrees)
 // Three streaks from 30 degrees (towards +x and +y, image right and down): light along 30,
 // 150 and 270 degrees, ten times more than along the directions half-way between them, and
 // opposite each ray (210, 330, 90) as little; the streaks carry the bright light's energy
-// (at the quarter size the glare reads) within 3 %.
+// (at the eighth of the size the glare reads) within 3 %.
 TEST_P(Lens, GlareStreaksRunAlongTheConfiguredRays)
 {
     LensOptions options = bloomOnly();
@@ -177,7 +184,7 @@ TEST_P(Lens, GlareStreaksRunAlongTheConfiguredRays)
     const auto lens = applyToSpot(options, kSpotRadiance);
     const ImageF glare = lens->readGlare();
     const double bright = kSpotRadiance - kThreshold;
-    EXPECT_NEAR(energy(glare, 4), bright, 0.03 * bright);
+    EXPECT_NEAR(energy(glare, kGlareScale), bright, 0.03 * bright);
     for (const double ray : {30.0, 150.0, 270.0}) {
         SCOPED_TRACE(ray);
         const double along = stripEnergy(glare, ray);
@@ -187,8 +194,12 @@ TEST_P(Lens, GlareStreaksRunAlongTheConfiguredRays)
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, Lens, ::testing::Values(false, true),
-                         [](const ::testing::TestParamInfo<bool>& param) { return param.param ? "Rgbm" : "Float"; });
+INSTANTIATE_TEST_SUITE_P(Formats, Lens, ::testing::Values(Formats::Float, Formats::Packed, Formats::Rgbm),
+                         [](const ::testing::TestParamInfo<Formats>& param) {
+                             return param.param == Formats::Float    ? "Float"
+                                    : param.param == Formats::Packed ? "Packed"
+                                                                     : "Rgbm";
+                         });
 
 // Through the whole renderer: every effect on (the threshold at 0), no virtual object, the
 // camera image comes out as it went in (+-1), single- and multisampled, both formats.
@@ -201,6 +212,7 @@ TEST(LensRenderer, PassthroughWithEveryEffectOnEqualsTheInput)
             options.samples = samples;
             options.environmentMaps.ibl.forceRgbm = rgbm;
             options.lens.enabled = true;
+            options.lens.images = rgbm ? LensImageFormat::Rgbm : LensImageFormat::Float;
             options.lens.threshold = 0.0f;
             options.lens.glare = true;
             LUMAR_RENDERER_OR_SKIP(renderer, 96, 64, options);
