@@ -264,7 +264,7 @@ private:
                 postStart = std::chrono::steady_clock::now();
                 stats_.shadingMs = std::chrono::duration<double, std::milli>(postStart - start).count();
             }
-            lens_->apply(target_);
+            lens_->apply(target_, lens_->reach(models_, items, frame_.clipFromCamera));
             if (profile_) {
                 glFinish();
                 stats_.postMs =

@@ -219,16 +219,54 @@ void LensEffects::drawInto(const Level& level) const
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void LensEffects::copyFrame(const RenderTarget& target)
+PixelRect LensEffects::reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
+                             const glm::mat4& clipFromCamera) const
+{
+    // Bloom: the coarsest level's texels (2^levels pixels) spread about two of them; beyond
+    // that lies under 1 % of its energy (the tests' bound at twice the radius). Glare: the rays.
+    const int bloom = options_.bloom ? 2 << bloomLevels_ : 0;
+    const int glare = glare_.width > 0 ? int(std::ceil(options_.glareLength)) + 2 * kGlareScale : 0;
+    const int margin = std::max(bloom, glare) + 4;
+    PixelRect rect;
+    for (const DrawItem& item : items) {
+        if (item.phantom)
+            continue;
+        const GpuModel& model = models[size_t(item.model)];
+        const glm::dmat4 clipFromModel = glm::dmat4(clipFromCamera) * item.cameraFromModel;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 local((corner & 1) ? model.boundsMax.x : model.boundsMin.x,
+                                   (corner & 2) ? model.boundsMax.y : model.boundsMin.y,
+                                   (corner & 4) ? model.boundsMax.z : model.boundsMin.z);
+            const glm::dvec4 clip = clipFromModel * glm::dvec4(local, 1.0);
+            if (!(clip.w > 1e-6))
+                return {0, 0, width_, height_}; // reaches behind the camera
+            const double x = (clip.x / clip.w * 0.5 + 0.5) * width_, y = (clip.y / clip.w * 0.5 + 0.5) * height_;
+            const PixelRect pixel{int(std::floor(std::max(x, -1e6))), int(std::floor(std::max(y, -1e6))),
+                                  int(std::ceil(std::min(x, 1e6))), int(std::ceil(std::min(y, 1e6)))};
+            rect = rect.empty() ? PixelRect{pixel.x0, pixel.y0, pixel.x0 + 1, pixel.y0 + 1}
+                                : PixelRect{std::min(rect.x0, pixel.x0), std::min(rect.y0, pixel.y0),
+                                            std::max(rect.x1, pixel.x1), std::max(rect.y1, pixel.y1)};
+        }
+    }
+    if (rect.empty())
+        return rect;
+    return {std::clamp(rect.x0 - margin, 0, width_), std::clamp(rect.y0 - margin, 0, height_),
+            std::clamp(rect.x1 + margin, 0, width_), std::clamp(rect.y1 + margin, 0, height_)};
+}
+
+void LensEffects::copyFrame(const RenderTarget& target, const PixelRect& area)
 {
     target.resolveColour();
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.readFramebuffer());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, frameCopy_.framebuffer.name());
-    glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(area.x0, area.y0, area.x1, area.y1, area.x0, area.y0, area.x1, area.y1, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
 }
 
-void LensEffects::apply(const RenderTarget& target)
+void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
 {
+    if (area.empty())
+        return;
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
@@ -268,8 +306,11 @@ void LensEffects::apply(const RenderTarget& target)
         drawInto(glare_);
     }
 
-    copyFrame(target);
+    copyFrame(target, area);
     target.bindForDrawing();
+    // Only where the effects can add light: the rest of the frame stays as it is, unread.
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(area.x0, area.y0, area.x1 - area.x0, area.y1 - area.y0);
     glUseProgram(composite_.name());
     bindTexture(0, frameCopy_.texture.name());
     bindTexture(1, !options_.bloom || down_.empty() ? 0
@@ -277,6 +318,7 @@ void LensEffects::apply(const RenderTarget& target)
                                                     : down_[0].texture.name());
     bindTexture(2, glare_.texture.name());
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_SCISSOR_TEST);
     glUseProgram(0);
     glActiveTexture(GL_TEXTURE0);
     checkGlError("drawing the lens effects");

@@ -12,11 +12,16 @@
 // leaves every pixel they do not reach exactly as it was.
 #pragma once
 
+#include <span>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "core/image.h"
 #include "gles_renderer/gl/gl_object.h"
 #include "gles_renderer/gl/render_target.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/pixel_rects.h"
 #include "gles_renderer/scene/scene_renderer.h"
 
 namespace lumar {
@@ -36,8 +41,14 @@ public:
     // the radiance image and lets fragment output 1 write to it, endVirtual() stops that.
     void beginVirtual() const;
     void endVirtual() const;
-    // Adds the effects onto the target's colour; leaves the target bound for drawing.
-    void apply(const RenderTarget& target);
+    // The window-space pixels the effects can change this frame: the virtual objects' (not
+    // the phantoms') projected bounds grown by the bloom's and the streaks' reach. Empty
+    // without virtual objects.
+    [[nodiscard]] PixelRect reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
+                                  const glm::mat4& clipFromCamera) const;
+    // Adds the effects onto the target's colour within `area` (reach()); nothing at all when it
+    // is empty. Leaves the target bound for drawing.
+    void apply(const RenderTarget& target, const PixelRect& area);
 
     // Test access. The radiance image the objects are drawn into (the frame's size).
     [[nodiscard]] GLuint radianceTexture() const { return radiance_.name(); }
@@ -59,7 +70,7 @@ private:
     Level makeLevel(int width, int height) const;
     void drawInto(const Level& level) const;
     [[nodiscard]] ImageF read(const Level& level) const;
-    void copyFrame(const RenderTarget& target);
+    void copyFrame(const RenderTarget& target, const PixelRect& area);
 
     LensOptions options_;
     bool radianceRgbm_;

@@ -84,7 +84,7 @@ protected:
             const float texel[4] = {radiance, radiance, radiance, 1.0f};
             glTexSubImage2D(GL_TEXTURE_2D, 0, kSpot, kSpot, 1, 1, GL_RGBA, GL_FLOAT, texel);
         }
-        lens->apply(*target_);
+        lens->apply(*target_, {0, 0, kSize, kSize});
         EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
         return lens;
     }
