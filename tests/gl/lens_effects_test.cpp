@@ -234,7 +234,8 @@ TEST(LensRenderer, PassthroughWithEveryEffectOnEqualsTheInput)
         }
 }
 
-// An emissive card brighter than the threshold over a grey camera image: with the effects on,
+// An emissive card brighter than the threshold over a grey camera image (single- and
+// multisampled): with the effects on,
 // the pixels around the card brighten and none darkens; far from it (beyond the bloom's radius
 // and the streaks' length) the frame equals the one without effects. A card below the
 // threshold gives the frame without effects exactly.
@@ -243,8 +244,9 @@ TEST(LensRenderer, AnEmissiveCardBloomsOnlyAboveTheThreshold)
     constexpr int kW = 160, kH = 120;
     const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 80, 60);
     const Image8 grey = test::solidImage(kW, kH, 60, 60, 60);
-    const auto renderCard = [&](bool lensOn, float emission) {
+    const auto renderCard = [&](bool lensOn, float emission, int samples) {
         RenderOptions options;
+        options.samples = samples;
         options.lens.enabled = lensOn;
         options.lens.glare = true;
         options.lens.bloomRadius = 16.0f;
@@ -261,26 +263,29 @@ TEST(LensRenderer, AnEmissiveCardBloomsOnlyAboveTheThreshold)
         made.renderer->readback(out);
         return out;
     };
-    const Image8 off = renderCard(false, 8.0f);
-    if (off.width == 0)
-        GTEST_SKIP() << "no GLES 3 renderer";
-    const Image8 on = renderCard(true, 8.0f);
-    int brighter = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const int d = int(on.at(x, y)[c]) - int(off.at(x, y)[c]);
-                ASSERT_GE(d, -1) << x << "," << y;
-                brighter += d > 1;
-                // The card spans 70..90 x 50..70; bloom and glare reach 16 + 24 pixels past it.
-                if (x < 70 - 48 || x > 90 + 48 || y < 50 - 48 || y > 70 + 48) {
-                    ASSERT_EQ(d, 0) << x << "," << y;
+    for (const int samples : {1, 4}) {
+        SCOPED_TRACE("samples " + std::to_string(samples));
+        const Image8 off = renderCard(false, 8.0f, samples);
+        if (off.width == 0)
+            GTEST_SKIP() << "no GLES 3 renderer";
+        const Image8 on = renderCard(true, 8.0f, samples);
+        int brighter = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const int d = int(on.at(x, y)[c]) - int(off.at(x, y)[c]);
+                    ASSERT_GE(d, -1) << x << "," << y;
+                    brighter += d > 1;
+                    // The card spans 70..90 x 50..70; bloom and glare reach 16 + 24 pixels past it.
+                    if (x < 70 - 48 || x > 90 + 48 || y < 50 - 48 || y > 70 + 48) {
+                        ASSERT_EQ(d, 0) << x << "," << y;
+                    }
                 }
-            }
-    EXPECT_GT(brighter, 3 * 400);                       // more than the card's own area, three channels
-    EXPECT_GT(on.at(80, 75)[0], off.at(80, 75)[0] + 5); // 5 pixels below the card
-    const Image8 dimOff = renderCard(false, 0.5f), dimOn = renderCard(true, 0.5f);
-    EXPECT_EQ(dimOn.data, dimOff.data);
+        EXPECT_GT(brighter, 3 * 400);                       // more than the card's own area, three channels
+        EXPECT_GT(on.at(80, 75)[0], off.at(80, 75)[0] + 5); // 5 pixels below the card
+        const Image8 dimOff = renderCard(false, 0.5f, samples), dimOn = renderCard(true, 0.5f, samples);
+        EXPECT_EQ(dimOn.data, dimOff.data);
+    }
 }
 
 } // namespace
