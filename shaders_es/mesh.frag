@@ -51,7 +51,11 @@ in vec3 vNormal;
 in vec4 vTangent;
 in vec2 vUv;
 
-out vec4 fragColor;
+layout(location = 0) out vec4 fragColor;
+// The frame's second attachment, where lens effects are on (gles_renderer/scene/lens_effects.h):
+// the virtual radiance times the exposure, linear HDR (RGBM where the maps are). Without that
+// attachment (lens effects off, cube faces) the write goes nowhere.
+layout(location = 1) out vec4 fragRadiance;
 
 #include "lafortune.glsl"
 #include "rgbm.glsl"
@@ -183,4 +187,5 @@ void main()
 
     fragColor = frameParams.y > 0.5 ? encodeMapTexel(radiance, frameParams.z > 0.5)
                                     : vec4(encodeSrgb(cameraResponse(radiance * frameParams.w)), 1.0);
+    fragRadiance = encodeMapTexel(radiance * frameParams.w, frameParams.z > 0.5);
 }

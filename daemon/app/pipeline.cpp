@@ -261,6 +261,17 @@ RenderOptions renderOptionsFor(const Config& config)
     maps.phantomsShowCamera = rendering.phantomsShowCamera;
     if (boardHasQuirk(config, "software-renderer"))
         options.materialTextureLimit = kSoftwareMaterialTextureLimit;
+    const LensConfig& lens = rendering.lens;
+    options.lens = {.enabled = lens.enabled,
+                    .threshold = float(lens.threshold),
+                    .bloom = lens.bloom,
+                    .bloomIntensity = float(lens.bloomIntensity),
+                    .bloomRadius = float(lens.bloomRadius),
+                    .glare = lens.glare,
+                    .glareStreaks = lens.glareStreaks,
+                    .glareLength = float(lens.glareLength),
+                    .glareIntensity = float(lens.glareIntensity),
+                    .glareAngle = float(lens.glareAngle)};
     return options;
 }
 

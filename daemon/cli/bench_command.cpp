@@ -83,8 +83,9 @@ int benchCommand(const BenchCommandOptions& options)
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs, latencyMs;
     std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, environmentCaptureMs, mapsUpdated;
+    std::vector<double> postMs;
     for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &environmentMapsMs, &shMs,
-                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated})
+                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated, &postMs})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -106,6 +107,7 @@ int benchCommand(const BenchCommandOptions& options)
         shadingMs.push_back(stats.shadingMs);
         shadowsMs.push_back(stats.shadowsMs);
         environmentCaptureMs.push_back(stats.environmentCaptureMs);
+        postMs.push_back(stats.postMs);
         mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
@@ -129,6 +131,7 @@ int benchCommand(const BenchCommandOptions& options)
             stages["shading"] = jsonDecimals(mean(shadingMs), 3);
             stages["shadows"] = jsonDecimals(mean(shadowsMs), 3);
             stages["environment_capture"] = jsonDecimals(mean(environmentCaptureMs), 3);
+            stages["post"] = jsonDecimals(mean(postMs), 3);
         }
         const Json summary = {
             {"source", source},
@@ -173,7 +176,8 @@ int benchCommand(const BenchCommandOptions& options)
                                                                                 {"shading", &shadingMs},
                                                                                 {"shadows", &shadowsMs},
 
-                                                                                {"env_capture", &environmentCaptureMs}};
+                                                                                {"env_capture", &environmentCaptureMs},
+                                                                                {"post", &postMs}};
             for (const auto& [name, values] : parts)
                 std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                             percentile(*values, 0.99));

@@ -521,6 +521,25 @@ void readShadows(TableReader& root, ShadowsConfig& shadows)
     r.finish();
 }
 
+void readLens(TableReader& rendering, LensConfig& lens)
+{
+    const toml::table* table = rendering.table("lens");
+    if (!table)
+        return;
+    TableReader r(*table, "rendering.lens", rendering.fileName());
+    r.boolean("enabled", lens.enabled);
+    r.number("threshold", lens.threshold, 0.0, 1000.0);
+    r.boolean("bloom", lens.bloom);
+    r.number("bloom_intensity", lens.bloomIntensity, 0.0, 16.0);
+    r.number("bloom_radius", lens.bloomRadius, 2.0, 1024.0);
+    r.boolean("glare", lens.glare);
+    r.integer("glare_streaks", lens.glareStreaks, 2, 16);
+    r.number("glare_length", lens.glareLength, 4.0, 1024.0);
+    r.number("glare_intensity", lens.glareIntensity, 0.0, 16.0);
+    r.number("glare_angle", lens.glareAngle, -360.0, 360.0);
+    r.finish();
+}
+
 void readRendering(TableReader& root, RenderingConfig& rendering, const Context& ctx)
 {
     const toml::table* table = root.table("rendering");
@@ -533,6 +552,7 @@ void readRendering(TableReader& root, RenderingConfig& rendering, const Context&
     r.number("environment_map_budget_ms", rendering.environmentMapBudgetMs, 0.0, 1000.0, true);
     r.integer("environment_map_size", rendering.environmentMapSize, 16, 256);
     r.boolean("phantoms_show_camera", rendering.phantomsShowCamera);
+    readLens(r, rendering.lens);
     const int size = rendering.environmentMapSize;
     if ((size & (size - 1)) != 0)
         r.fail(table->get("environment_map_size"), "environment_map_size",

@@ -211,6 +211,22 @@ struct ShadowsConfig {
     bool operator==(const ShadowsConfig&) const = default;
 };
 
+// [rendering.lens]: bloom and glare streaks from the virtual objects' bright light (DESIGN.md
+// §6.5; gles_renderer's LensOptions says what each does). Off by default.
+struct LensConfig {
+    bool enabled = false;
+    double threshold = 1.0; // radiance x exposure above which light blooms, 0..1000
+    bool bloom = true;
+    double bloomIntensity = 0.5; // 0..16
+    double bloomRadius = 32.0;   // output pixels, 2..1024
+    bool glare = false;
+    int glareStreaks = 4;        // rays per bright spot, 2..16
+    double glareLength = 96.0;   // output pixels, 4..1024
+    double glareIntensity = 0.3; // 0..16
+    double glareAngle = 0.0;     // degrees of the first ray from image right towards down, -360..360
+    bool operator==(const LensConfig&) const = default;
+};
+
 // The paper's per-object environment maps (DESIGN.md §6.1).
 struct RenderingConfig {
     // auto: every_frame, or budget on a board with the software-renderer GL quirk
@@ -219,6 +235,7 @@ struct RenderingConfig {
     double environmentMapBudgetMs = 8.0;  // budget: milliseconds per frame
     int environmentMapSize = 64;          // px per cube face, a power of two 16..256
     bool phantomsShowCamera = true;       // phantoms carry the camera image in the maps
+    LensConfig lens;                      // [rendering.lens]
     bool operator==(const RenderingConfig&) const = default;
 };
 

@@ -78,6 +78,18 @@ environment_map_budget_ms = 8.0
 environment_map_size = 64
 phantoms_show_camera = true
 
+[rendering.lens]
+enabled = false
+threshold = 1.0
+bloom = true
+bloom_intensity = 0.5
+bloom_radius = 32.0
+glare = false
+glare_streaks = 4
+glare_length = 96.0
+glare_intensity = 0.3
+glare_angle = 0.0
+
 [output]
 sink = "headless"
 )toml";

@@ -23,6 +23,9 @@ public:
     void resolveColour() const;
     // The single-sampled framebuffer holding the finished frame.
     [[nodiscard]] GLuint readFramebuffer() const;
+    // The framebuffer drawn into (multisampled where the target is), for passes that attach
+    // more images to it (gles_renderer/scene/lens_effects.h).
+    [[nodiscard]] GLuint drawFramebuffer() const { return drawFramebuffer_.name(); }
     // The RGB8 colour texture drawn into, or 0 when multisampled.
     [[nodiscard]] GLuint colourTexture() const { return colourTexture_.name(); }
 

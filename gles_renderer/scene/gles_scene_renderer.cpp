@@ -22,6 +22,7 @@
 #include "gles_renderer/scene/camera_projection.h"
 #include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/lens_effects.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/phantom_depth.h"
 #include "gles_renderer/scene/scene_renderer.h"
@@ -68,6 +69,8 @@ public:
           profile_(options.profile)
     {
         meshes_.setShadowMap(shadows_.map());
+        if (options.lens.enabled)
+            lens_ = std::make_unique<LensEffects>(target_, options.lens, probes_.rgbm());
         checkGlError("creating the scene renderer");
         // Zero-copy camera frames are imported from their dmabufs where this display can.
         background_.enableDmabufImport(options.display ? *options.display : *EglDisplay::surfaceless());
@@ -250,10 +253,27 @@ private:
         frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, exposure_);
         shadows_.fillView(frame_, glm::dmat4(1.0));
         shadows_.drawReceivers(frame_, models_, items, maps);
+        if (lens_)
+            lens_->beginVirtual();
         meshes_.draw(frame_, models_, items, maps, -1,
                      shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
+        if (lens_) {
+            lens_->endVirtual();
+            auto postStart = std::chrono::steady_clock::now();
+            if (profile_) {
+                glFinish();
+                postStart = std::chrono::steady_clock::now();
+                stats_.shadingMs = std::chrono::duration<double, std::milli>(postStart - start).count();
+            }
+            lens_->apply(target_, lens_->reach(models_, items, frame_.clipFromCamera));
+            if (profile_) {
+                glFinish();
+                stats_.postMs =
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - postStart).count();
+            }
+        }
         target_.finishFrame();
-        if (profile_) {
+        if (profile_ && !lens_) {
             glFinish();
             stats_.shadingMs =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -331,6 +351,7 @@ private:
     bool profile_;
     RenderStats stats_;
     FrameUniforms frame_;
+    std::unique_ptr<LensEffects> lens_; // with RenderOptions::lens
 };
 
 } // namespace

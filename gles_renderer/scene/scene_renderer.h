@@ -60,6 +60,30 @@ struct ShadowOptions {
     int receiverScale = 2;
 };
 
+// Lens effects on the virtual objects' light (DESIGN.md §6.5, gles_renderer/scene/lens_effects.h):
+// what is brighter than `threshold` (radiance times exposure, where the camera's response
+// reaches 1 only at infinity) spreads around it as bloom and as glare streaks, added to the
+// frame as light scattered in the lens. Off unless asked for: the app turns them on from
+// [rendering.lens]; off, the frame is drawn as without them and nothing is spent on them.
+// The format of the lens effects' pyramid: RGBA16F (where a float format renders) or RGBA8
+// RGBM. Auto: RGBM on a software rasteriser, where llvmpipe sampled RGBA16F 3.5x slower
+// (the full-size composite of the demo truck at 1280x720, load 8: 63 ms against 18 ms).
+enum class LensImageFormat { Auto, Float, Rgbm };
+
+struct LensOptions {
+    bool enabled = false;
+    LensImageFormat images = LensImageFormat::Auto;
+    float threshold = 1.0f; // the bright pass: light above this feeds bloom and glare
+    bool bloom = true;
+    float bloomIntensity = 0.5f; // share of the bright light spread as bloom (1: all of it)
+    float bloomRadius = 32.0f;   // output pixels the bloom reaches
+    bool glare = false;
+    int glareStreaks = 4;        // rays from each bright spot, evenly spaced (2..16)
+    float glareLength = 96.0f;   // output pixels a ray reaches
+    float glareIntensity = 0.3f; // share of the bright light spread along the rays
+    float glareAngle = 0.0f;     // degrees, the first ray's angle from +x (image right), towards +y (down)
+};
+
 // When the per-object environment maps are re-rendered (DESIGN.md §6.1).
 enum class EnvironmentMapPolicy {
     EveryFrame,   // every object's map, every frame (the paper's method)
@@ -93,6 +117,7 @@ struct RenderStats {
     // The camera image projected into the environment built from it, and that environment's
     // own maps rebuilt (EnvironmentSource::Camera*; 0 with the .hdr alone).
     double environmentCaptureMs = 0;
+    double postMs = 0; // lens effects (0 when off)
 };
 
 // Where the real environment's radiance comes from (DESIGN.md §6.5).
@@ -111,6 +136,7 @@ struct RenderOptions {
     // The largest side of a material texture; larger ones are scaled down when uploaded (0:
     // GL's own limit). A software rasteriser keeps every texture and its mips in memory.
     int materialTextureLimit = 0;
+    LensOptions lens;
     bool profile = false;
     // The EGL display to render on: a KMS display's (KmsDisplay::eglDisplay()) to present()
     // there; null: the process' surfaceless display (headless).

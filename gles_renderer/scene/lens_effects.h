@@ -1,0 +1,98 @@
+// Lens effects on the virtual objects' light (DESIGN.md §6.5): bloom and glare streaks from
+// what is bright in the virtual contribution, added onto the frame.
+//
+// The objects' linear radiance (times the exposure) is drawn beside the frame's colour into a
+// second attachment of the frame's framebuffer (mesh.frag's fragRadiance): RGBA16F where it
+// renders, else RGBA8 RGBM like the environment maps. After the mesh pass a bright pass and a
+// pyramid of 2 x 2 box downsamples (half size first) hold the light above the threshold; the
+// bloom climbs back up it, every level bilinearly doubled and mixed with the next finer one so
+// each level has an equal share; the glare streaks gather the eighth-size level along the
+// configured rays. Both conserve the bright light's energy (sum of radiance x area), scaled by
+// their intensities, and are added to the frame in linear light (lens_composite.frag), which
+// leaves every pixel they do not reach exactly as it was.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "gles_renderer/gl/gl_object.h"
+#include "gles_renderer/gl/render_target.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/pixel_rects.h"
+#include "gles_renderer/scene/scene_renderer.h"
+
+namespace lumar {
+
+class LensEffects {
+public:
+    // Needs a current GLES 3 context; attaches its radiance image to `target`'s framebuffer,
+    // where it stays inert until beginVirtual(). `rgbm`: no float format renders, every image
+    // is RGBA8 RGBM (the radiance too, as mesh.frag writes it where the maps are RGBM).
+    // Throws InputError for options out of range.
+    LensEffects(const RenderTarget& target, const LensOptions& options, bool rgbm);
+
+    LensEffects(const LensEffects&) = delete;
+    LensEffects& operator=(const LensEffects&) = delete;
+
+    // Around the virtual objects' draw in the frame (the target bound): beginVirtual() clears
+    // the radiance image and lets fragment output 1 write to it, endVirtual() stops that.
+    void beginVirtual() const;
+    void endVirtual() const;
+    // The window-space pixels the effects can change this frame: the virtual objects' (not
+    // the phantoms') projected bounds grown by the bloom's and the streaks' reach. Empty
+    // without virtual objects.
+    [[nodiscard]] PixelRect reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
+                                  const glm::mat4& clipFromCamera) const;
+    // Adds the effects onto the target's colour within `area` (reach()); nothing at all when it
+    // is empty. Leaves the target bound for drawing.
+    void apply(const RenderTarget& target, const PixelRect& area);
+
+    // Test access. The radiance image the objects are drawn into (the frame's size).
+    [[nodiscard]] GLuint radianceTexture() const { return radiance_.name(); }
+    // The bright light above the threshold, the bloom and the glare as last computed, linear,
+    // decoded from RGBM; each at its own size (half, half and an eighth of the frame's).
+    [[nodiscard]] ImageF readBright() const;
+    [[nodiscard]] ImageF readBloom() const;
+    [[nodiscard]] ImageF readGlare() const;
+    [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
+    [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
+
+private:
+    struct Level {
+        int width = 0;
+        int height = 0;
+        GlTexture texture;
+        GlFramebuffer framebuffer;
+    };
+    Level makeLevel(int width, int height) const;
+    void drawInto(const Level& level) const;
+    [[nodiscard]] ImageF read(const Level& level) const;
+    void copyFrame(const RenderTarget& target, const PixelRect& area);
+
+    LensOptions options_;
+    bool radianceRgbm_;
+    bool rgbm_;
+    int width_;
+    int height_;
+    int samples_;
+    GlTexture radiance_;                  // single-sampled, read by the bright pass
+    GlRenderbuffer multisampledRadiance_; // drawn into when the target is multisampled
+    GlFramebuffer resolveFramebuffer_;    // radiance_ as a blit destination (multisampled only)
+    GLuint targetFramebuffer_;
+    std::vector<Level> down_; // [0]: half size, thresholded
+    std::vector<Level> up_;   // up_[k]: the bloom from level k down (up_.back() unused)
+    int bloomLevels_ = 0;
+    GLint sourceRgbm_ = -1; // lens_downsample.frag's
+    Level glare_;
+    Level frameCopy_; // RGBA8 copy of the frame, read by the composite
+    GlProgram downsample_;
+    GlProgram upsample_;
+    GlProgram glareProgram_;
+    GlProgram composite_;
+    GlVertexArray emptyVertexArray_;
+};
+
+} // namespace lumar

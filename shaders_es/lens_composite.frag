@@ -1,0 +1,63 @@
+#version 300 es
+// Adds the lens effects onto the frame (gles_renderer/scene/lens_effects.h). The effects are
+// light scattered in the lens, added to what reached the sensor: the frame's pixel is taken
+// back through the camera's response (camera_response.glsl) to linear light, the bloom and
+// the glare are added, and the response and the sRGB encoding applied again. Where the effects
+// add nothing the pixel is left as it was (discarded), exactly.
+precision highp float;
+precision highp sampler2D;
+
+uniform sampler2D uFrame;  // the frame so far, sRGB-encoded (a copy: the target is drawn into)
+uniform sampler2D uBloom;  // half the frame's size, or unused
+uniform sampler2D uGlare;  // smaller than the frame by 1 / uGlareScale, or unused
+uniform float uGlareScale;
+uniform vec2 uIntensity;   // x: bloom, y: glare (0: off)
+uniform bool uRgbm;
+
+out vec4 fragColor;
+
+#include "rgbm.glsl"
+#include "lens.glsl"
+#include "camera_response.glsl"
+
+// The least light the effects must add to a pixel to touch it.
+const float kNothing = 1e-5;
+
+// sRGB without pow (llvmpipe's pow is a long polynomial; six per pixel were most of this
+// pass): decoding by Ian Taylor's cubic fit, encoding by his fit in square roots (as mesh.frag),
+// each within half a code value at 8 bits, on pixels the effects change anyway.
+vec3 decodeSrgb(vec3 c)
+{
+    return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
+}
+
+vec3 encodeSrgb(vec3 c)
+{
+    vec3 s1 = sqrt(c);
+    vec3 s2 = sqrt(s1);
+    vec3 s3 = sqrt(s2);
+    vec3 high = 0.662002687 * s1 + 0.684122060 * s2 - 0.323583601 * s3 - 0.0225411470 * c;
+    return mix(c * 12.92, high, step(vec3(0.0031308), c));
+}
+
+// cameraResponse's inverse; white (which the shoulder only reaches at infinity) comes back as
+// the light that makes 254.5 / 255.
+vec3 inverseResponse(vec3 y)
+{
+    vec3 shoulder = kResponseKnee - (1.0 - kResponseKnee) * log(1.0 - (min(y, 254.5 / 255.0) - kResponseKnee) /
+                                                                      (1.0 - kResponseKnee));
+    return mix(y, shoulder, step(vec3(kResponseKnee), y));
+}
+
+void main()
+{
+    vec3 added = vec3(0.0);
+    if (uIntensity.x > 0.0)
+        added += uIntensity.x * sampleRadiance(uBloom, gl_FragCoord.xy * 0.5, uRgbm);
+    if (uIntensity.y > 0.0)
+        added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * uGlareScale, uRgbm);
+    if (max(added.r, max(added.g, added.b)) < kNothing)
+        discard;
+    vec3 frame = decodeSrgb(texelFetch(uFrame, ivec2(gl_FragCoord.xy), 0).rgb);
+    fragColor = vec4(encodeSrgb(cameraResponse(inverseResponse(frame) + added)), 1.0);
+}

@@ -1,0 +1,292 @@
+// Lens effects (gles_renderer/scene/lens_effects.h), measured: the bloom keeps the bright
+// light's energy and spreads it over a stated radius, nothing below the threshold blooms, glare
+// streaks run along the configured rays, and with no virtual object every effect leaves the
+// camera image as it was. Each with RGBA16F images and with the RGBA8 RGBM fallback.
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include <gtest/gtest.h>
+
+#include "gl_test_support.h"
+#include "gles_renderer/gl/egl_context.h"
+#include "gles_renderer/gl/render_target.h"
+#include "gles_renderer/scene/lens_effects.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kSize = 128;             // the frame, square
+constexpr int kSpot = 64;              // the bright texel's column and row
+constexpr float kSpotRadiance = 11.0f; // within RGBM's range (16)
+constexpr float kThreshold = 1.0f;
+constexpr int kGlareScale = 8; // the glare image is this many times smaller
+
+// Energy of an image (sum over texels of the channel mean) in frame pixels: a texel of an
+// image `scale` times smaller covers scale^2 of them.
+double energy(const ImageF& image, int scale)
+{
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            sum += (image.at(x, y)[0] + image.at(x, y)[1] + image.at(x, y)[2]) / 3.0;
+    return sum * scale * scale;
+}
+
+// The same for the texels whose centres lie within `radius` frame pixels of the spot's centre.
+double energyWithin(const ImageF& image, int scale, double radius)
+{
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const double dx = (x + 0.5) * scale - (kSpot + 0.5), dy = (y + 0.5) * scale - (kSpot + 0.5);
+            if (dx * dx + dy * dy <= radius * radius)
+                sum += (image.at(x, y)[0] + image.at(x, y)[1] + image.at(x, y)[2]) / 3.0;
+        }
+    return sum * scale * scale;
+}
+
+// The images' formats: all RGBA16F; the radiance RGBA16F and the pyramid RGBM (a software
+// rasteriser's choice); all RGBM (no float format renders).
+enum class Formats { Float, Packed, Rgbm };
+
+class Lens : public ::testing::TestWithParam<Formats> {
+protected:
+    void SetUp() override
+    {
+        try {
+            context_.emplace(EglDisplay::surfaceless());
+        } catch (const RuntimeError& e) {
+            GTEST_SKIP() << e.what();
+        }
+    }
+
+    // The effects over a black frame whose only virtual light is one texel of `radiance`.
+    std::unique_ptr<LensEffects> applyToSpot(const LensOptions& options, float radiance)
+    {
+        target_.emplace(kSize, kSize, 1);
+        LensOptions formatted = options;
+        formatted.images = GetParam() == Formats::Float ? LensImageFormat::Float : LensImageFormat::Rgbm;
+        auto lens = std::make_unique<LensEffects>(*target_, formatted, GetParam() == Formats::Rgbm);
+        target_->bindForDrawing();
+        glClearColor(0, 0, 0, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        lens->beginVirtual();
+        lens->endVirtual();
+        glBindTexture(GL_TEXTURE_2D, lens->radianceTexture());
+        if (lens->radianceRgbm()) {
+            // rgbm.glsl's encoding.
+            const float m = std::ceil(radiance / 16.0f * 255.0f) / 255.0f;
+            const auto code = uint8_t(std::lround(std::min(1.0f, radiance / (m * 16.0f)) * 255.0f));
+            const uint8_t texel[4] = {code, code, code, uint8_t(std::lround(m * 255.0f))};
+            glTexSubImage2D(GL_TEXTURE_2D, 0, kSpot, kSpot, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, texel);
+        } else {
+            const float texel[4] = {radiance, radiance, radiance, 1.0f};
+            glTexSubImage2D(GL_TEXTURE_2D, 0, kSpot, kSpot, 1, 1, GL_RGBA, GL_FLOAT, texel);
+        }
+        lens->apply(*target_, {0, 0, kSize, kSize});
+        EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+        return lens;
+    }
+
+    // The frame after the effects, RGB.
+    Image8 frame() const
+    {
+        Image8 rgba(kSize, kSize, 4);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target_->readFramebuffer());
+        glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data.data());
+        return rgba;
+    }
+
+    std::optional<EglContext> context_;
+    std::optional<RenderTarget> target_;
+};
+
+LensOptions bloomOnly()
+{
+    LensOptions options;
+    options.enabled = true;
+    options.threshold = kThreshold;
+    options.bloom = true;
+    options.bloomIntensity = 1.0f;
+    options.bloomRadius = 16.0f;
+    options.glare = false;
+    return options;
+}
+
+// The bloom of one bright texel carries its light above the threshold, 10, within 3 %, and
+// spreads it: at most 60 % stays within 4 pixels, at least 90 % lies within the radius (16
+// pixels) and at least 99 % within twice the radius.
+TEST_P(Lens, BloomConservesTheBrightEnergyAndSpreadsItOverTheRadius)
+{
+    const auto lens = applyToSpot(bloomOnly(), kSpotRadiance);
+    const double bright = kSpotRadiance - kThreshold;
+    EXPECT_NEAR(energy(lens->readBright(), 2), bright, 0.01 * bright);
+    const ImageF bloom = lens->readBloom();
+    const double total = energy(bloom, 2);
+    EXPECT_NEAR(total, bright, 0.03 * bright);
+    const double near = energyWithin(bloom, 2, 4.0), inside = energyWithin(bloom, 2, 16.0),
+                 wide = energyWithin(bloom, 2, 32.0);
+    RecordProperty("share_within_4px", std::to_string(near / total));
+    RecordProperty("share_within_16px", std::to_string(inside / total));
+    EXPECT_LE(near, 0.6 * total);
+    EXPECT_GE(inside, 0.9 * total);
+    EXPECT_GE(wide, 0.99 * total);
+    // In the frame: the spot's neighbourhood brightens, a corner stays black.
+    const Image8 out = frame();
+    EXPECT_GT(out.at(kSpot + 3, kSpot)[0], 0);
+    EXPECT_EQ(out.at(2, 2)[0], 0);
+}
+
+// Light below the threshold adds nothing: no bloom, no glare, the frame unchanged.
+TEST_P(Lens, NothingBloomsBelowTheThreshold)
+{
+    LensOptions options = bloomOnly();
+    options.glare = true;
+    const auto lens = applyToSpot(options, 0.9f * kThreshold);
+    EXPECT_EQ(energy(lens->readBright(), 2), 0.0);
+    EXPECT_EQ(energy(lens->readBloom(), 2), 0.0);
+    EXPECT_EQ(energy(lens->readGlare(), kGlareScale), 0.0);
+    const Image8 out = frame();
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            ASSERT_EQ(out.at(x, y)[0] + out.at(x, y)[1] + out.at(x, y)[2], 0) << x << "," << y;
+}
+
+// The glare's energy along a ray through the spot (the glare's texels from 8 to 32 pixels
+// away) against the same strip turned half-way between two rays.
+double stripEnergy(const ImageF& glare, double angleDegrees)
+{
+    const double a = angleDegrees * std::numbers::pi / 180.0;
+    double sum = 0.0;
+    for (double t = 8.0; t <= 32.0; t += 4.0) {
+        const int x = int(std::floor((kSpot + 0.5 + t * std::cos(a)) / kGlareScale));
+        const int y = int(std::floor((kSpot + 0.5 + t * std::sin(a)) / kGlareScale));
+        if (x >= 0 && y >= 0 && x < glare.width && y < glare.height)
+            sum += glare.at(x, y)[0];
+    }
+    return sum;
+}
+
+// Three streaks from 30 degrees (towards +x and +y, image right and down): light along 30,
+// 150 and 270 degrees, ten times more than along the directions half-way between them, and
+// opposite each ray (210, 330, 90) as little; the streaks carry the bright light's energy
+// (at the eighth of the size the glare reads) within 3 %.
+TEST_P(Lens, GlareStreaksRunAlongTheConfiguredRays)
+{
+    LensOptions options = bloomOnly();
+    options.bloom = false;
+    options.glare = true;
+    options.glareStreaks = 3;
+    options.glareAngle = 30.0f;
+    options.glareLength = 48.0f;
+    options.glareIntensity = 1.0f;
+    const auto lens = applyToSpot(options, kSpotRadiance);
+    const ImageF glare = lens->readGlare();
+    const double bright = kSpotRadiance - kThreshold;
+    EXPECT_NEAR(energy(glare, kGlareScale), bright, 0.03 * bright);
+    for (const double ray : {30.0, 150.0, 270.0}) {
+        SCOPED_TRACE(ray);
+        const double along = stripEnergy(glare, ray);
+        EXPECT_GT(along, 0.0);
+        EXPECT_GT(along, 10.0 * stripEnergy(glare, ray + 60.0));  // between two rays
+        EXPECT_GT(along, 10.0 * stripEnergy(glare, ray + 180.0)); // opposite: not a ray
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, Lens, ::testing::Values(Formats::Float, Formats::Packed, Formats::Rgbm),
+                         [](const ::testing::TestParamInfo<Formats>& param) {
+                             return param.param == Formats::Float    ? "Float"
+                                    : param.param == Formats::Packed ? "Packed"
+                                                                     : "Rgbm";
+                         });
+
+// Through the whole renderer: every effect on (the threshold at 0), no virtual object, the
+// camera image comes out as it went in (+-1), single- and multisampled, both formats.
+TEST(LensRenderer, PassthroughWithEveryEffectOnEqualsTheInput)
+{
+    for (const bool rgbm : {false, true})
+        for (const int samples : {1, 4}) {
+            SCOPED_TRACE(std::string(rgbm ? "rgbm" : "float") + ", samples " + std::to_string(samples));
+            RenderOptions options;
+            options.samples = samples;
+            options.environmentMaps.ibl.forceRgbm = rgbm;
+            options.lens.enabled = true;
+            options.lens.images = rgbm ? LensImageFormat::Rgbm : LensImageFormat::Float;
+            options.lens.threshold = 0.0f;
+            options.lens.glare = true;
+            LUMAR_RENDERER_OR_SKIP(renderer, 96, 64, options);
+            renderer.setEnvironment(test::uniformEnvironment(1.0f), 1.0f);
+            Image8 input(96, 64, 3);
+            for (int y = 0; y < 64; ++y)
+                for (int x = 0; x < 96; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        input.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+            renderer.render(input, test::makeIntrinsics(96, 64, 80, 80, 48, 32), {});
+            Image8 out;
+            renderer.readback(out);
+            int worst = 0;
+            for (int y = 0; y < 64; ++y)
+                for (int x = 0; x < 96; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        worst = std::max(worst, std::abs(int(out.at(x, y)[c]) - int(input.at(x, y)[c])));
+            EXPECT_LE(worst, 1);
+        }
+}
+
+// An emissive card brighter than the threshold over a grey camera image (single- and
+// multisampled): with the effects on,
+// the pixels around the card brighten and none darkens; far from it (beyond the bloom's radius
+// and the streaks' length) the frame equals the one without effects. A card below the
+// threshold gives the frame without effects exactly.
+TEST(LensRenderer, AnEmissiveCardBloomsOnlyAboveTheThreshold)
+{
+    constexpr int kW = 160, kH = 120;
+    const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 80, 60);
+    const Image8 grey = test::solidImage(kW, kH, 60, 60, 60);
+    const auto renderCard = [&](bool lensOn, float emission, int samples) {
+        RenderOptions options;
+        options.samples = samples;
+        options.lens.enabled = lensOn;
+        options.lens.glare = true;
+        options.lens.bloomRadius = 16.0f;
+        options.lens.glareLength = 24.0f;
+        auto made = test::tryCreateRenderer(kW, kH, options);
+        Image8 out;
+        if (!made.renderer)
+            return out;
+        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
+        const GltfModel card =
+            test::cameraFacingRectangle(-0.05f, -0.05f, 0.05f, 0.05f, test::emissiveMaterial(glm::vec3(emission)));
+        const DrawItem item{made.renderer->addModel(card), test::translation(0, 0, 1)};
+        made.renderer->render(grey, k, {&item, 1});
+        made.renderer->readback(out);
+        return out;
+    };
+    for (const int samples : {1, 4}) {
+        SCOPED_TRACE("samples " + std::to_string(samples));
+        const Image8 off = renderCard(false, 8.0f, samples);
+        if (off.width == 0)
+            GTEST_SKIP() << "no GLES 3 renderer";
+        const Image8 on = renderCard(true, 8.0f, samples);
+        int brighter = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const int d = int(on.at(x, y)[c]) - int(off.at(x, y)[c]);
+                    ASSERT_GE(d, -1) << x << "," << y;
+                    brighter += d > 1;
+                    // The card spans 70..90 x 50..70; bloom and glare reach 16 + 24 pixels past it.
+                    if (x < 70 - 48 || x > 90 + 48 || y < 50 - 48 || y > 70 + 48) {
+                        ASSERT_EQ(d, 0) << x << "," << y;
+                    }
+                }
+        EXPECT_GT(brighter, 3 * 400);                       // more than the card's own area, three channels
+        EXPECT_GT(on.at(80, 75)[0], off.at(80, 75)[0] + 5); // 5 pixels below the card
+        const Image8 dimOff = renderCard(false, 0.5f, samples), dimOn = renderCard(true, 0.5f, samples);
+        EXPECT_EQ(dimOn.data, dimOff.data);
+    }
+}
+
+} // namespace
+} // namespace lumar
