@@ -9,6 +9,7 @@
 #include <X11/Xutil.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -49,8 +50,11 @@ struct X11Window::XConnection {
 namespace {
 
 // Xlib's default handlers print several lines and exit(1) on a broken connection or any
-// protocol error; lumar says it in one line and decides itself (libX11 >= 1.7 lets the exit
-// handler return: the display is then marked broken and its calls do nothing).
+// protocol error; lumar says it in one line. libX11 >= 1.7 lets the exit handler return, but
+// 1.8 (Debian 12) then crashes in the request that met the error ("request N would exceed
+// buffer size", a write through a null request), so a loss Xlib meets inside a call ends the
+// process here, with the one line and exit status 1 (RuntimeError's). Losses seen between
+// calls (XConnection::alive) are thrown as RuntimeError as usual.
 extern "C" int quietIoError(Display*)
 {
     return 0;
@@ -59,6 +63,9 @@ extern "C" int quietIoError(Display*)
 extern "C" void markConnectionLost(Display*, void* connection)
 {
     *static_cast<bool*>(connection) = true;
+    static const char kLine[] = "lumar: the X display closed under the preview window\n";
+    [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, kLine, sizeof kLine - 1);
+    ::_exit(1);
 }
 
 extern "C" int logProtocolError(Display* display, XErrorEvent* error)
