@@ -46,6 +46,42 @@ uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
 uniform samplerCube uMirrorMap;       // the environment map itself
 uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
 
+// What the material and the view need, fixed when MeshPass links a variant of this program
+// for them (gles_renderer/scene/mesh_features.h). llvmpipe runs both sides of every branch,
+// uniform ones included, so a lookup a material does not need costs as much as one it does
+// unless the compiler removes it. Where a variant leaves a feature open (the generic
+// program), the uniforms decide.
+#ifndef HAS_BASE_COLOR_TEXTURE
+#define HAS_BASE_COLOR_TEXTURE (textureFlags.x > 0.5)
+#endif
+#ifndef HAS_SECOND_TEXTURE // rho_s (Lafortune) or metallic-roughness
+#define HAS_SECOND_TEXTURE (textureFlags.y > 0.5)
+#endif
+#ifndef HAS_LOBE_TEXTURE
+#define HAS_LOBE_TEXTURE (textureFlags.z > 0.5)
+#endif
+#ifndef HAS_ROTATION_TEXTURE
+#define HAS_ROTATION_TEXTURE (textureFlags.w > 0.5)
+#endif
+#ifndef IS_LAFORTUNE
+#define IS_LAFORTUNE (metallicRoughness.z > 0.5)
+#endif
+#ifndef HAS_NORMAL_MAP
+#define HAS_NORMAL_MAP (emissiveNormalScale.w != 0.0)
+#endif
+#ifndef HAS_EMISSION
+#define HAS_EMISSION any(greaterThan(emissiveNormalScale.rgb, vec3(0.0)))
+#endif
+#ifndef HAS_SHADOW
+#define HAS_SHADOW (lightDirection.w > 0.5)
+#endif
+#ifndef MAPS_RGBM
+#define MAPS_RGBM (frameParams.z > 0.5)
+#endif
+#ifndef WRITES_RADIANCE // a cube face of an environment map, not the frame
+#define WRITES_RADIANCE (frameParams.y > 0.5)
+#endif
+
 in vec3 vPosition;
 in vec3 vNormal;
 in vec4 vTangent;
@@ -87,17 +123,19 @@ vec3 encodeSrgb(vec3 c)
 // Explicit LODs: the maps are small and implicit derivatives would blur across faces.
 vec3 mapRadiance(samplerCube map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, d, 0.0), frameParams.z > 0.5);
+    return decodeMapTexel(textureLod(map, d, 0.0), MAPS_RGBM);
 }
 
+// The maps' weights (glossyBlend's two neighbours, the others 0) without branches: llvmpipe
+// runs every side of a branch, which made the three pairs six lookups instead of four.
 vec3 environmentRadiance(vec3 d, float s)
 {
     vec2 blend = glossyBlend(s);
-    if (blend.x < 0.5)
-        return mix(mapRadiance(uDiffuseMap, d), mapRadiance(uGlossy1Map, d), blend.y);
-    if (blend.x < 1.5)
-        return mix(mapRadiance(uGlossy1Map, d), mapRadiance(uGlossy2Map, d), blend.y);
-    return mix(mapRadiance(uGlossy2Map, d), mapRadiance(uMirrorMap, d), blend.y);
+    vec4 w = vec4(blend.x < 0.5 ? 1.0 - blend.y : 0.0,
+                  blend.x < 0.5 ? blend.y : (blend.x < 1.5 ? 1.0 - blend.y : 0.0),
+                  blend.x < 0.5 ? 0.0 : (blend.x < 1.5 ? blend.y : 1.0 - blend.y), blend.x < 1.5 ? 0.0 : blend.y);
+    return w.x * mapRadiance(uDiffuseMap, d) + w.y * mapRadiance(uGlossy1Map, d) +
+           w.z * mapRadiance(uGlossy2Map, d) + w.w * mapRadiance(uMirrorMap, d);
 }
 
 void main()
@@ -109,8 +147,7 @@ void main()
     t = hasTangent ? normalize(t) : normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
     float handedness = (vTangent.w < 0.0 ? -1.0 : 1.0) * frameParams.x;
     vec3 b = cross(n, t) * handedness;
-    // Uniform branches: llvmpipe skips what no fragment of the material needs.
-    if (hasTangent && emissiveNormalScale.w != 0.0) {
+    if (HAS_NORMAL_MAP && hasTangent) {
         vec3 tangentNormal = texture(uNormal, vUv).xyz * 2.0 - 1.0;
         tangentNormal.xy *= emissiveNormalScale.w;
         n = normalize(mat3(t, b, n) * tangentNormal);
@@ -122,31 +159,31 @@ void main()
         t = -t;
     }
 
-    // Absent textures are white: skip their lookups (uniform branches cost nothing).
+    // Absent textures are white: no lookup.
     vec3 base = vec3(1.0);
-    if (textureFlags.x > 0.5)
+    if (HAS_BASE_COLOR_TEXTURE)
         base = texture(uBaseColor, vUv).rgb;
     vec3 rhoD;
     vec3 rhoS;
     vec3 lobe;
     float exponent;
     float rotation;
-    if (metallicRoughness.z > 0.5) {
+    if (IS_LAFORTUNE) {
         rhoD = baseColorFactor.rgb * base;
         rhoS = specularFactor.rgb;
-        if (textureFlags.y > 0.5)
+        if (HAS_SECOND_TEXTURE)
             rhoS *= texture(uSpecular, vUv).rgb;
         vec4 lobeTexel = vec4(1.0);
-        if (textureFlags.z > 0.5)
+        if (HAS_LOBE_TEXTURE)
             lobeTexel = texture(uLobe, vUv);
         lobe = lobeFactor.xyz * lobeTexel.rgb;
         exponent = max(lobeFactor.w * lobeTexel.a, 1.0);
         rotation = specularFactor.w;
-        if (textureFlags.w > 0.5)
+        if (HAS_ROTATION_TEXTURE)
             rotation *= texture(uTangentRotation, vUv).r;
     } else {
         vec3 mr = vec3(1.0);
-        if (textureFlags.y > 0.5)
+        if (HAS_SECOND_TEXTURE)
             mr = texture(uMetallicRoughness, vUv).rgb;
         float metallic = clamp(metallicRoughness.x * mr.b, 0.0, 1.0);
         float roughness = clamp(metallicRoughness.y * mr.g, 0.0, 1.0);
@@ -169,7 +206,7 @@ void main()
     // lightIrradiance max(0, n.l); where the shadow map blocks it, that share is taken out:
     // E = max(E_env - (1 - visibility) E_L, floor). Lit, or with no light or no shadow map,
     // E is E_env exactly, as without shadows.
-    if (lightDirection.w > 0.5) {
+    if (HAS_SHADOW) {
         float nl = dot(n, lightDirection.xyz);
         if (nl > 0.0) {
             float visibility = shadowVisibility(vPosition, n);
@@ -182,10 +219,10 @@ void main()
     vec3 specular = shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;
-    if (any(greaterThan(emissiveNormalScale.rgb, vec3(0.0))))
+    if (HAS_EMISSION)
         radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
 
-    fragColor = frameParams.y > 0.5 ? encodeMapTexel(radiance, frameParams.z > 0.5)
+    fragColor = WRITES_RADIANCE ? encodeMapTexel(radiance, MAPS_RGBM)
                                     : vec4(encodeSrgb(cameraResponse(radiance * frameParams.w)), 1.0);
-    fragRadiance = encodeMapTexel(radiance * frameParams.w, frameParams.z > 0.5);
+    fragRadiance = encodeMapTexel(radiance * frameParams.w, MAPS_RGBM);
 }

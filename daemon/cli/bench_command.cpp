@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "capture/replay_source.h"
@@ -55,6 +58,15 @@ double peakResidentMegabytes()
     return statusMegabytes("VmHWM:");
 }
 
+// CPU time of the whole process (every thread: capture, detection, the rasteriser's), which
+// a loaded machine hardly changes, unlike the wall-clock frame time.
+double processCpuMs()
+{
+    timespec time{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &time);
+    return double(time.tv_sec) * 1e3 + double(time.tv_nsec) * 1e-6;
+}
+
 constexpr double kMegabyte = 1024.0 * 1024.0;
 
 } // namespace
@@ -82,12 +94,23 @@ int benchCommand(const BenchCommandOptions& options)
             throw InputError("the camera source ended during warm-up");
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs, latencyMs;
-    std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, environmentCaptureMs, mapsUpdated;
-    std::vector<double> postMs;
-    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &environmentMapsMs, &shMs,
-                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated, &postMs})
+    // Each render stage's wall and CPU milliseconds per frame (RenderStats).
+    using StageField = StageTime RenderStats::*;
+    const std::pair<const char*, StageField> stageFields[] = {{"env_maps", &RenderStats::environmentMaps},
+                                                              {"sh", &RenderStats::sh},
+                                                              {"prefilter", &RenderStats::prefilter},
+                                                              {"shading", &RenderStats::shading},
+                                                              {"shadows", &RenderStats::shadows},
+                                                              {"receivers", &RenderStats::receivers},
+                                                              {"background", &RenderStats::background},
+                                                              {"environment_capture", &RenderStats::environmentCapture},
+                                                              {"post", &RenderStats::post}};
+    std::vector<std::vector<double>> stageWallMs(std::size(stageFields)), stageCpuMs(std::size(stageFields));
+    std::vector<double> mapsUpdated;
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated})
         v->reserve(size_t(frames));
     long measured = 0;
+    const double cpuStart = processCpuMs();
     const auto start = std::chrono::steady_clock::now();
     auto last = start;
     while (measured < frames && pipeline.step(report)) {
@@ -101,18 +124,16 @@ int benchCommand(const BenchCommandOptions& options)
         if (report.latencyMs)
             latencyMs.push_back(*report.latencyMs);
         const RenderStats stats = pipeline.renderStats();
-        environmentMapsMs.push_back(stats.environmentMapsMs);
-        shMs.push_back(stats.shMs);
-        prefilterMs.push_back(stats.prefilterMs);
-        shadingMs.push_back(stats.shadingMs);
-        shadowsMs.push_back(stats.shadowsMs);
-        environmentCaptureMs.push_back(stats.environmentCaptureMs);
-        postMs.push_back(stats.postMs);
+        for (size_t s = 0; s < std::size(stageFields); ++s) {
+            stageWallMs[s].push_back((stats.*stageFields[s].second).wallMs);
+            stageCpuMs[s].push_back((stats.*stageFields[s].second).cpuMs);
+        }
         mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
     const double seconds = std::chrono::duration<double>(last - start).count();
     const double fps = seconds > 0 ? double(measured) / seconds : 0.0;
+    const double cpuPerFrame = measured > 0 ? (processCpuMs() - cpuStart) / double(measured) : 0.0;
     const int width = pipeline.output().width, height = pipeline.output().height;
     // The camera the figures are for: live (drawn or decoded while timed) or replayed from memory.
     const std::string source = replay ? "replay" : "live";
@@ -124,14 +145,12 @@ int benchCommand(const BenchCommandOptions& options)
                        {"detect", jsonDecimals(mean(detectMs), 3)},
                        {"render", jsonDecimals(mean(renderMs), 3)},
                        {"readback", jsonDecimals(mean(readbackMs), 3)}};
+        Json stagesCpu = Json::object();
         if (profile) {
-            stages["env_maps"] = jsonDecimals(mean(environmentMapsMs), 3);
-            stages["sh"] = jsonDecimals(mean(shMs), 3);
-            stages["prefilter"] = jsonDecimals(mean(prefilterMs), 3);
-            stages["shading"] = jsonDecimals(mean(shadingMs), 3);
-            stages["shadows"] = jsonDecimals(mean(shadowsMs), 3);
-            stages["environment_capture"] = jsonDecimals(mean(environmentCaptureMs), 3);
-            stages["post"] = jsonDecimals(mean(postMs), 3);
+            for (size_t s = 0; s < std::size(stageFields); ++s) {
+                stages[stageFields[s].first] = jsonDecimals(mean(stageWallMs[s]), 3);
+                stagesCpu[stageFields[s].first] = jsonDecimals(mean(stageCpuMs[s]), 3);
+            }
         }
         const Json summary = {
             {"source", source},
@@ -149,6 +168,8 @@ int benchCommand(const BenchCommandOptions& options)
                                : Json{{"p50", jsonDecimals(latencyP50, 3)}, {"p99", jsonDecimals(latencyP99, 3)}}},
             {"frames_dropped", pipeline.framesDropped()},
             {"stages_ms", std::move(stages)},
+            {"stages_cpu_ms", profile ? std::move(stagesCpu) : Json(nullptr)},
+            {"cpu_ms_per_frame", jsonDecimals(cpuPerFrame, 2)},
             {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
             {"profiled", profile},
             {"rss_mb", jsonDecimals(residentMegabytes(), 1)},
@@ -168,19 +189,16 @@ int benchCommand(const BenchCommandOptions& options)
         for (const auto& [name, values] : stages)
             std::printf("  %-9s %8.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                         percentile(*values, 0.99));
+        const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
+        std::printf("  CPU time %.1f ms per frame, all threads (at most %.1f fps on %u cores)\n", cpuPerFrame,
+                    cpuPerFrame > 0 ? 1000.0 * cores / cpuPerFrame : 0.0, cores);
         if (profile) {
-            std::printf("  render, split (%.2f environment maps updated per frame):\n", mean(mapsUpdated));
-            const std::pair<const char*, const std::vector<double>*> parts[] = {{"env_maps", &environmentMapsMs},
-                                                                                {"sh", &shMs},
-                                                                                {"prefilter", &prefilterMs},
-                                                                                {"shading", &shadingMs},
-                                                                                {"shadows", &shadowsMs},
-
-                                                                                {"env_capture", &environmentCaptureMs},
-                                                                                {"post", &postMs}};
-            for (const auto& [name, values] : parts)
-                std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
-                            percentile(*values, 0.99));
+            std::printf("  render, split (%.2f environment maps updated per frame; cpu: rendering threads):\n",
+                        mean(mapsUpdated));
+            std::printf("    %-19s %6s %8s %8s %8s\n", "stage", "mean", "p50", "p99", "cpu");
+            for (size_t s = 0; s < std::size(stageFields); ++s)
+                std::printf("    %-19s %6.2f %8.2f %8.2f %8.2f\n", stageFields[s].first, mean(stageWallMs[s]),
+                            percentile(stageWallMs[s], 0.5), percentile(stageWallMs[s], 0.99), mean(stageCpuMs[s]));
         }
     }
     return kExitOk;

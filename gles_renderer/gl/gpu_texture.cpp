@@ -62,6 +62,18 @@ GlTexture uploadMaterialTexture(const Image8& image, bool srgb, int maxSize)
     return texture;
 }
 
+GlTexture makeRenderTexture(GLenum format, int width, int height, GLenum filter, GLenum wrapS)
+{
+    GlTexture texture = GlTexture::create();
+    glBindTexture(GL_TEXTURE_2D, texture.name());
+    glTexStorage2D(GL_TEXTURE_2D, 1, format, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GLint(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GLint(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GLint(wrapS));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
 GlTexture makeSolidTexture(uint8_t r, uint8_t g, uint8_t b, uint8_t a)
 {
     const uint8_t texel[4] = {r, g, b, a};

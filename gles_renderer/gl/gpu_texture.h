@@ -29,6 +29,11 @@ GlTexture uploadMaterialTexture(const Image8& rgba, bool srgb, int maxSize = 0);
 // A 1x1 texture of one texel, for materials without that texture.
 GlTexture makeSolidTexture(uint8_t r, uint8_t g, uint8_t b, uint8_t a);
 
+// A one-level texture a pass renders into and a later one reads: `format` (e.g. GL_R8,
+// GL_RGBA16F), `filter` (GL_NEAREST or GL_LINEAR) for both minification and magnification,
+// wrapping `wrapS` horizontally and clamped vertically. Left bound to GL_TEXTURE_2D.
+GlTexture makeRenderTexture(GLenum format, int width, int height, GLenum filter, GLenum wrapS = GL_CLAMP_TO_EDGE);
+
 // A 24-bit depth texture read by comparison (a sampler2DShadow: texture() returns the share
 // of the 2 x 2 nearest texels whose depth is >= the reference, bilinearly weighted), clamped
 // at its edges: shadow maps, and the phantoms' depth as the camera sees them.

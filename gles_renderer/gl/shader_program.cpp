@@ -53,7 +53,7 @@ GLenum stageOf(std::string_view name)
 
 } // namespace
 
-GlShader compileShader(std::string_view name)
+GlShader compileShader(std::string_view name, std::string_view defines)
 {
     const std::string_view text = shaders::source(name);
     if (text.empty())
@@ -61,9 +61,11 @@ GlShader compileShader(std::string_view name)
     GlShader shader(glCreateShader(stageOf(name)));
     if (!shader)
         throwNoGlName("glCreateShader");
-    const GLchar* source = text.data();
-    const GLint length = GLint(text.size());
-    glShaderSource(shader.name(), 1, &source, &length);
+    // The #version line must come first: the defines follow it.
+    const size_t versionEnd = std::min(text.find('\n') + 1, text.size());
+    const GLchar* sources[] = {text.data(), defines.empty() ? "" : defines.data(), text.data() + versionEnd};
+    const GLint lengths[] = {GLint(versionEnd), GLint(defines.size()), GLint(text.size() - versionEnd)};
+    glShaderSource(shader.name(), 3, sources, lengths);
     glCompileShader(shader.name());
     GLint compiled = GL_FALSE;
     glGetShaderiv(shader.name(), GL_COMPILE_STATUS, &compiled);
@@ -72,10 +74,10 @@ GlShader compileShader(std::string_view name)
     return shader;
 }
 
-GlProgram linkProgram(const ProgramSources& sources)
+GlProgram linkProgram(const ProgramSources& sources, std::string_view defines)
 {
-    const GlShader vertex = compileShader(sources.vertex);
-    const GlShader fragment = compileShader(sources.fragment);
+    const GlShader vertex = compileShader(sources.vertex, defines);
+    const GlShader fragment = compileShader(sources.fragment, defines);
     GlProgram program = GlProgram::create();
     glAttachShader(program.name(), vertex.name());
     glAttachShader(program.name(), fragment.name());
@@ -89,6 +91,11 @@ GlProgram linkProgram(const ProgramSources& sources)
         throw RuntimeError("program " + std::string(sources.vertex) + " + " + std::string(sources.fragment) +
                            " does not link: " + firstLine(programLog(program.name())));
     return program;
+}
+
+GLint optionalUniformLocation(const GlProgram& program, const char* name)
+{
+    return glGetUniformLocation(program.name(), name);
 }
 
 GLint uniformLocation(const GlProgram& program, const char* name)

@@ -42,15 +42,21 @@ inline constexpr ProgramSources kCameraEnvironmentSkyboxProgram{"cube_face.vert"
 // Compiles embedded shader `name`; the stage follows the extension (.vert, .frag).
 // Throws RuntimeError "shader NAME: ..." for an unknown name or extension, or with the
 // first line of the info log when it does not compile.
-GlShader compileShader(std::string_view name);
+// `defines` (lines of "#define NAME VALUE") go right after the source's #version line.
+GlShader compileShader(std::string_view name, std::string_view defines = {});
 
 // Compiles and links both stages. Throws RuntimeError naming the shaders and the first
 // line of the link log when linking fails.
-GlProgram linkProgram(const ProgramSources& sources);
+// `defines` as for compileShader, in both stages: a variant of the program.
+GlProgram linkProgram(const ProgramSources& sources, std::string_view defines = {});
 
 // The location of uniform `name`; throws RuntimeError when the program lacks it (a typo
 // or an optimised-away uniform would otherwise fail silently).
 GLint uniformLocation(const GlProgram& program, const char* name);
+
+// The location of uniform `name`, or -1 where the program has none (a variant that compiled
+// out what reads it).
+GLint optionalUniformLocation(const GlProgram& program, const char* name);
 
 // Binds uniform block `blockName` to `binding`; throws RuntimeError when it is missing.
 void bindUniformBlock(const GlProgram& program, const char* blockName, GLuint binding);

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/shader_program.h"
 #include "gles_renderer/ibl/cube_face_camera.h"
@@ -342,7 +343,7 @@ void IblPipeline::drawSkybox(int face, GLuint equirect, int equirectWidth, float
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     glDepthMask(GL_TRUE);
 }
 
@@ -359,7 +360,7 @@ void IblPipeline::renderFaces(GLuint cube, int size, GLuint program, const std::
         glViewport(origin.x, origin.y, size, size);
         glScissor(origin.x, origin.y, size, size);
         perFace(face);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        drawFullscreenTriangle();
     }
     glDisable(GL_SCISSOR_TEST);
     copyAtlasToCube(derivedAtlasFramebuffer_.name(), size, cube);
@@ -378,7 +379,7 @@ void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients
     glUseProgram(program);
     bindTextureUnit(kSamplesUnit, GL_TEXTURE_2D, shSamples_.name());
     glBindSampler(GLuint(kSourceUnit), sampler);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     glBindSampler(GLuint(kSourceUnit), 0);
 
     // Pass 2: the sums of the rows, into the 1 x 9 coefficient texture.
@@ -386,7 +387,7 @@ void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients
     glViewport(0, 0, 1, 9);
     glUseProgram(shReduce_.name());
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, partialSums_.name());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
 }
 
 void IblPipeline::projectShOnCpu(IblMaps& maps) const

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/shader_program.h"
 
@@ -50,7 +51,6 @@ void uploadPlane(const uint8_t* plane, size_t planeSize, size_t stride, int widt
 BackgroundPass::BackgroundPass(const RenderTarget& target)
     : width_(target.width()), height_(target.height()), targetTexture_(target.colourTexture())
 {
-    emptyVertexArray_ = GlVertexArray::create();
     if (targetTexture_ != 0)
         return;
     program_ = linkProgram(kBackgroundProgram);
@@ -96,8 +96,7 @@ void BackgroundPass::draw(const Image8& rgb)
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glUseProgram(program_.name());
-    glBindVertexArray(emptyVertexArray_.name());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
 }
 
 void BackgroundPass::prepareYcbcr(YCbCrLayout layout)
@@ -164,8 +163,7 @@ void BackgroundPass::draw(const YCbCrImage& ycbcr)
     glUniform1i(layoutLocation_, nv12 ? 0 : 1);
     glUniform1i(bt709Location_, ycbcr.colorimetry.matrix == YCbCrMatrix::Bt709 ? 1 : 0);
     glUniform1i(fullRangeLocation_, ycbcr.colorimetry.fullRange ? 1 : 0);
-    glBindVertexArray(emptyVertexArray_.name());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     if (imported != nullptr) {
         heldBuffer_ = ycbcr.buffer;
         heldFence_ = GlFence::insert();

@@ -59,7 +59,6 @@ private:
     // Only for multisampled targets:
     GlProgram program_;
     GlTexture texture_;
-    GlVertexArray emptyVertexArray_; // GLES 3 draws need a bound vertex array
     // The YCbCr path, created on its first frame:
     GlProgram ycbcrProgram_;
     GlTexture lumaTexture_;   // NV12 Y plane, R8

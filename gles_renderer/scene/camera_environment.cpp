@@ -8,7 +8,9 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
 #include "gles_renderer/ibl/cube_face_camera.h"
 
@@ -25,15 +27,8 @@ constexpr float kLastLevel = 32.0f;
 
 GlTexture makeMapTexture(GLenum format, int width, int height)
 {
-    GlTexture texture = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, format, width, height);
     // The skybox reads it bilinearly (longitude wraps); the accumulation with texelFetch.
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return texture;
+    return makeRenderTexture(format, width, height, GL_LINEAR, GL_REPEAT);
 }
 
 void bindTextureUnit(GLint unit, GLuint texture)
@@ -128,7 +123,7 @@ void CameraEnvironment::accumulate(const CameraView& camera, const glm::dmat3& e
     bindTextureUnit(kRadianceUnit, previous.radiance.name());
     bindTextureUnit(kWeightUnit, previous.weight.name());
     bindTextureUnit(kCameraUnit, camera.texture);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     glDepthMask(GL_TRUE);
     current_ = 1 - current_;
     checkGlError("projecting the camera image into the environment");
@@ -152,7 +147,7 @@ void CameraEnvironment::drawSkybox(int face, int faceSize, GLuint equirect, int 
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDepthMask(GL_FALSE);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     glDepthMask(GL_TRUE);
 }
 

@@ -1,7 +1,6 @@
 #include "gles_renderer/scene/environment_probes.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -10,26 +9,13 @@
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/ibl/cube_face_camera.h"
 #include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/stage_timer.h"
 
 namespace lumar {
 namespace {
 
 // Faces see neighbours a few centimetres away; the owner is hidden, so nothing is closer.
 constexpr double kFaceNearMetres = 0.002;
-
-using Clock = std::chrono::steady_clock;
-
-double millisecondsSince(Clock::time_point start)
-{
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// With profiling, waits for the GPU so the time is the stage's own.
-void finishIf(bool profile)
-{
-    if (profile)
-        glFinish();
-}
 
 glm::dvec3 boundsCentre(const GpuModel& model)
 {
@@ -200,8 +186,8 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const Env
 
 void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                     const EnvironmentLighting& environment, const MeshPass& meshes,
-                                    const ShadowPass& shadows, const CameraView& camera, bool profile,
-                                    RenderStats& stats)
+                                    const ShadowPass& shadows, const CameraView& camera, RenderCpuClock* cpu,
+                                    bool finish, RenderStats& stats)
 {
     IblMaps& maps = probes_[items[owner].object];
     if (!maps.mirror)
@@ -257,7 +243,7 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
                     faceIntrinsics(size).fx, cameraPhantoms ? &phantomCamera : nullptr);
     };
 
-    auto start = Clock::now();
+    StageTimer timer(cpu, finish);
     // The phantoms as the layer would show them now, in the environment frame about the centre.
     phantomScene_.clear();
     const glm::dmat4 environmentFromCentre =
@@ -287,26 +273,18 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
     const MeshPass::Phantoms phantoms =
         backdrop == &environmentMaps_ ? MeshPass::Phantoms::Shaded : MeshPass::Phantoms::DepthOnly;
     pipeline_.renderMirror(maps, backdrop, [&](int face) { drawFace(face, false, phantoms); });
-    finishIf(profile);
-    stats.environmentMapsMs += millisecondsSince(start);
-
-    start = Clock::now();
+    timer.split(stats.environmentMaps);
     pipeline_.projectSH(maps);
-    finishIf(profile);
-    stats.shMs += millisecondsSince(start);
-
-    start = Clock::now();
+    timer.split(stats.sh);
     pipeline_.prefilter(maps);
-    finishIf(profile);
-    stats.prefilterMs += millisecondsSince(start);
+    timer.split(stats.prefilter);
     ++stats.mapsUpdated;
 }
 
-std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuModel>& models,
-                                                          std::span<const DrawItem> items,
-                                                          const EnvironmentLighting& environment,
-                                                          const MeshPass& meshes, const ShadowPass& shadows,
-                                                          const CameraView& camera, bool profile, RenderStats& stats)
+std::span<const IblMaps* const>
+EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                          const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
+                          const CameraView& camera, RenderCpuClock* profile, RenderStats& stats)
 {
     if (environment.generation() != environmentGeneration_)
         rebuildEnvironmentMaps(environment);
@@ -321,10 +299,11 @@ std::span<const IblMaps* const> EnvironmentProbes::update(const std::vector<GpuM
         chooseUpdates(items, environment);
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
         for (const size_t i : updates_) {
-            const auto start = Clock::now();
-            renderProbe(i, models, items, environment, meshes, shadows, camera, profile || timeProbes, stats);
+            const double before = stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs;
+            renderProbe(i, models, items, environment, meshes, shadows, camera, profile,
+                        profile != nullptr || timeProbes, stats);
             if (timeProbes) {
-                const double cost = millisecondsSince(start);
+                const double cost = stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs - before;
                 probeCostMs_ = probeCostMs_ > 0.0 ? 0.8 * probeCostMs_ + 0.2 * cost : cost;
             }
             // From now on this frame (later probes and the frame itself) sees the new maps.

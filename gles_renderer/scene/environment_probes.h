@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "gles_renderer/gl/render_cpu_clock.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_image.h"
@@ -33,7 +34,7 @@ public:
     // changed.
     std::span<const IblMaps* const> update(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                                            const EnvironmentLighting& environment, const MeshPass& meshes,
-                                           const ShadowPass& shadows, const CameraView& camera, bool profile,
+                                           const ShadowPass& shadows, const CameraView& camera, RenderCpuClock* profile,
                                            RenderStats& stats);
 
     [[nodiscard]] const IblMaps* objectMaps(int object) const;
@@ -63,7 +64,7 @@ private:
     void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                      const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
-                     const CameraView& camera, bool profile, RenderStats& stats);
+                     const CameraView& camera, RenderCpuClock* cpu, bool finish, RenderStats& stats);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;

@@ -1,7 +1,6 @@
 // SceneRenderer on an EGL context (surfaceless, or on a KMS display's GBM platform): background
 // pass, mesh pass, readback or presentation to a window surface.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -27,6 +26,7 @@
 #include "gles_renderer/scene/phantom_depth.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/scene/shadow_pass.h"
+#include "gles_renderer/scene/stage_timer.h"
 
 namespace lumar {
 namespace {
@@ -223,8 +223,9 @@ private:
 
         stats_ = RenderStats{};
         frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
-        shadows_.render(models_, items, environment_.environmentFromCamera(), profile_, stats_);
+        shadows_.render(models_, items, environment_.environmentFromCamera(), profiler(), stats_);
         // The camera image first: the environment maps may show it (phantoms carry it).
+        StageTimer backgroundTimer(profiler(), profile_);
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
@@ -239,13 +240,15 @@ private:
                 camera.phantomDepth = phantomDepth_.texture();
             }
         }
+        if (profile_)
+            backgroundTimer.split(stats_.background);
         if (environmentSource_ != EnvironmentSource::Hdr)
             captureEnvironment(camera);
 
         const std::span<const IblMaps* const> maps =
-            probes_.update(models_, items, environment_, meshes_, shadows_, camera, profile_, stats_);
+            probes_.update(models_, items, environment_, meshes_, shadows_, camera, profiler(), stats_);
 
-        const auto start = std::chrono::steady_clock::now();
+        StageTimer timer(profiler(), profile_);
         target_.bindForDrawing();
         const glm::mat3 environmentFromCamera(environment_.environmentFromCamera());
         for (int c = 0; c < 3; ++c)
@@ -253,35 +256,29 @@ private:
         frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, exposure_);
         shadows_.fillView(frame_, glm::dmat4(1.0));
         shadows_.drawReceivers(frame_, models_, items, maps);
+        if (profile_)
+            timer.split(stats_.receivers);
         if (lens_)
             lens_->beginVirtual();
         meshes_.draw(frame_, models_, items, maps, -1,
                      shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
         if (lens_) {
             lens_->endVirtual();
-            auto postStart = std::chrono::steady_clock::now();
-            if (profile_) {
-                glFinish();
-                postStart = std::chrono::steady_clock::now();
-                stats_.shadingMs = std::chrono::duration<double, std::milli>(postStart - start).count();
-            }
+            if (profile_)
+                timer.split(stats_.shading);
             lens_->apply(target_, lens_->reach(models_, items, frame_.clipFromCamera));
-            if (profile_) {
-                glFinish();
-                stats_.postMs =
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - postStart).count();
-            }
+            if (profile_)
+                timer.split(stats_.post);
         }
         target_.finishFrame();
-        if (profile_ && !lens_) {
-            glFinish();
-            stats_.shadingMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        }
+        if (profile_ && !lens_)
+            timer.split(stats_.shading);
         // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
         // before readback() overlaps with it.
         glFlush();
     }
+
+    [[nodiscard]] RenderCpuClock* profiler() { return profile_ ? &cpuClock_ : nullptr; }
 
     // Whether this frame's passes look at the camera image from elsewhere.
     [[nodiscard]] bool needsCameraImage(std::span<const DrawItem> items) const
@@ -297,7 +294,7 @@ private:
     // rendered from it.
     void captureEnvironment(const CameraView& camera)
     {
-        const auto start = std::chrono::steady_clock::now();
+        StageTimer timer(profiler(), profile_);
         if (orientationTracked_)
             cameraEnvironment_->accumulate(camera, environment_.environmentFromCamera(), cameraExposure_);
         orientationTracked_ = false;
@@ -308,11 +305,8 @@ private:
                                                cameraExposure_);
             });
         }
-        if (profile_) {
-            glFinish();
-            stats_.environmentCaptureMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        }
+        if (profile_)
+            timer.split(stats_.environmentCapture);
     }
 
     // How often the real environment's maps are rendered from the camera's map (frames): a
@@ -349,6 +343,7 @@ private:
     bool orientationTracked_ = false;                      // setEnvironmentRotation() since the last frame
     long captureFrame_ = 0;
     bool profile_;
+    RenderCpuClock cpuClock_; // read only with profile_
     RenderStats stats_;
     FrameUniforms frame_;
     std::unique_ptr<LensEffects> lens_; // with RenderOptions::lens

@@ -12,6 +12,7 @@
 #include "gles_renderer/assets/mesh_simplify.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/gpu_texture.h"
+#include "gles_renderer/scene/mesh_features.h"
 #include "gles_renderer/scene/uniform_blocks.h"
 
 namespace lumar {
@@ -122,6 +123,15 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     material.lobe = textureOr(m.lobeTexture, defaults.white);
     material.tangentRotation = textureOr(m.tangentRotationTexture, defaults.white);
     material.doubleSided = m.doubleSided;
+    const auto bit = [](bool on, uint32_t feature) { return on ? feature : 0U; };
+    material.features =
+        bit(m.baseColorTexture >= 0, mesh_feature::kBaseColorTexture) |
+        bit((m.hasLafortune ? m.specularTexture : m.metallicRoughnessTexture) >= 0, mesh_feature::kSecondTexture) |
+        bit(m.lobeTexture >= 0, mesh_feature::kLobeTexture) |
+        bit(m.tangentRotationTexture >= 0, mesh_feature::kRotationTexture) |
+        bit(m.hasLafortune, mesh_feature::kLafortune) |
+        bit(block.emissiveNormalScale.w != 0.0f, mesh_feature::kNormalMap) |
+        bit(glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))), mesh_feature::kEmission);
     return material;
 }
 

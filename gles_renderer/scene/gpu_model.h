@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -29,6 +30,7 @@ struct GpuMaterial {
     GLuint lobe = 0;
     GLuint tangentRotation = 0;
     bool doubleSided = false;
+    uint32_t features = 0; // mesh_feature bits of the material (mesh_features.h)
 };
 
 struct GpuPrimitive {

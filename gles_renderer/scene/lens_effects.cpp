@@ -7,7 +7,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
 
 namespace lumar {
@@ -75,7 +77,7 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
       width_(target.width()), height_(target.height()), samples_(target.samples()),
       targetFramebuffer_(target.drawFramebuffer()), downsample_(linkProgram(kLensDownsampleProgram)),
       upsample_(linkProgram(kLensUpsampleProgram)), glareProgram_(linkProgram(kLensGlareProgram)),
-      composite_(linkProgram(kLensCompositeProgram)), emptyVertexArray_(GlVertexArray::create())
+      composite_(linkProgram(kLensCompositeProgram))
 {
     checkOptions(options_);
     const GLenum format = radianceRgbm_ ? GL_RGBA8 : GL_RGBA16F;
@@ -183,14 +185,8 @@ LensEffects::Level LensEffects::makeLevel(int width, int height) const
     Level level;
     level.width = width;
     level.height = height;
-    level.texture = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, level.texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, rgbm_ ? GL_RGBA8 : GL_RGBA16F, width, height);
     // The glare filters float levels bilinearly; every other read is texelFetch.
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, rgbm_ ? GL_NEAREST : GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, rgbm_ ? GL_NEAREST : GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    level.texture = makeRenderTexture(rgbm_ ? GL_RGBA8 : GL_RGBA16F, width, height, rgbm_ ? GL_NEAREST : GL_LINEAR);
     level.framebuffer = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, level.framebuffer.name());
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, level.texture.name(), 0);
@@ -216,7 +212,7 @@ void LensEffects::drawInto(const Level& level) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, level.framebuffer.name());
     glViewport(0, 0, level.width, level.height);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
 }
 
 PixelRect LensEffects::reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
@@ -270,7 +266,6 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    glBindVertexArray(emptyVertexArray_.name());
     if (samples_ > 1) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, targetFramebuffer_);
         glReadBuffer(GL_COLOR_ATTACHMENT1);
@@ -317,7 +312,7 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
                    : bloomLevels_ > 1               ? up_[0].texture.name()
                                                     : down_[0].texture.name());
     bindTexture(2, glare_.texture.name());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawFullscreenTriangle();
     glDisable(GL_SCISSOR_TEST);
     glUseProgram(0);
     glActiveTexture(GL_TEXTURE0);

@@ -92,7 +92,6 @@ private:
     GlProgram upsample_;
     GlProgram glareProgram_;
     GlProgram composite_;
-    GlVertexArray emptyVertexArray_;
 };
 
 } // namespace lumar

@@ -4,11 +4,13 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/mesh_features.h"
 
 namespace lumar {
 
@@ -49,6 +51,10 @@ public:
         bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name(), GL_TEXTURE_CUBE_MAP);
         bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name(), GL_TEXTURE_CUBE_MAP);
     }
+    // The mesh.frag variant in use (~0: another program is bound).
+    uint32_t variantFeatures = ~0U;
+    const MeshPass::Variant* variant = nullptr;
+
     void bindMaterial(const GpuMaterial* material)
     {
         if (material_ == material)
@@ -74,9 +80,7 @@ private:
 };
 
 MeshPass::MeshPass()
-    : program_(linkProgram(kMeshProgram)), cameraFromMeshLocation_(uniformLocation(program_, "uCameraFromMesh")),
-      normalFromMeshLocation_(uniformLocation(program_, "uNormalFromMesh")),
-      phantomProgram_(linkProgram(kPhantomProgram)),
+    : phantomProgram_(linkProgram(kPhantomProgram)),
       phantomCameraFromMeshLocation_(uniformLocation(phantomProgram_, "uCameraFromMesh")),
       phantomNormalFromMeshLocation_(uniformLocation(phantomProgram_, "uNormalFromMesh")),
       phantomFrameCameraFromViewLocation_(uniformLocation(phantomProgram_, "uFrameCameraFromView")),
@@ -87,21 +91,6 @@ MeshPass::MeshPass()
       frameUniforms_(GlBuffer::create())
 {
     bindUniformBlock(depthOnly_, "Frame", kFrameBlockBinding);
-    glUseProgram(program_.name());
-    glUniform1i(uniformLocation(program_, "uBaseColor"), GLint(kBaseColorUnit));
-    glUniform1i(uniformLocation(program_, "uMetallicRoughness"), GLint(kMetallicRoughnessUnit));
-    glUniform1i(uniformLocation(program_, "uNormal"), GLint(kNormalUnit));
-    glUniform1i(uniformLocation(program_, "uEmissive"), GLint(kEmissiveUnit));
-    glUniform1i(uniformLocation(program_, "uSpecular"), GLint(kSpecularUnit));
-    glUniform1i(uniformLocation(program_, "uLobe"), GLint(kLobeUnit));
-    glUniform1i(uniformLocation(program_, "uTangentRotation"), GLint(kTangentRotationUnit));
-    glUniform1i(uniformLocation(program_, "uDiffuseMap"), GLint(kDiffuseMapUnit));
-    glUniform1i(uniformLocation(program_, "uGlossy1Map"), GLint(kGlossy1MapUnit));
-    glUniform1i(uniformLocation(program_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
-    glUniform1i(uniformLocation(program_, "uMirrorMap"), GLint(kMirrorMapUnit));
-    glUniform1i(uniformLocation(program_, "uShadowMap"), GLint(kShadowMapUnit));
-    bindUniformBlock(program_, "Frame", kFrameBlockBinding);
-    bindUniformBlock(program_, "Material", kMaterialBlockBinding);
     glUseProgram(phantomProgram_.name());
     glUniform1i(uniformLocation(phantomProgram_, "uCameraImage"), GLint(kCameraImageUnit));
     glUniform1i(uniformLocation(phantomProgram_, "uCameraDepth"), GLint(kCameraDepthUnit));
@@ -117,6 +106,41 @@ MeshPass::MeshPass()
     checkGlError("creating the mesh pass");
 }
 
+const MeshPass::Variant& MeshPass::variant(uint32_t features) const
+{
+    const auto found = variants_.find(features);
+    if (found != variants_.end())
+        return found->second;
+    Variant variant;
+    variant.program = linkProgram(kMeshProgram, meshVariantDefines(features));
+    const GlProgram& program = variant.program;
+    variant.cameraFromMeshLocation = uniformLocation(program, "uCameraFromMesh");
+    variant.normalFromMeshLocation = uniformLocation(program, "uNormalFromMesh");
+    glUseProgram(program.name());
+    // A variant has only the samplers its features read.
+    const std::pair<const char*, GLuint> samplers[] = {{"uBaseColor", kBaseColorUnit},
+                                                       {"uMetallicRoughness", kMetallicRoughnessUnit},
+                                                       {"uNormal", kNormalUnit},
+                                                       {"uEmissive", kEmissiveUnit},
+                                                       {"uSpecular", kSpecularUnit},
+                                                       {"uLobe", kLobeUnit},
+                                                       {"uTangentRotation", kTangentRotationUnit},
+                                                       {"uDiffuseMap", kDiffuseMapUnit},
+                                                       {"uGlossy1Map", kGlossy1MapUnit},
+                                                       {"uGlossy2Map", kGlossy2MapUnit},
+                                                       {"uMirrorMap", kMirrorMapUnit},
+                                                       {"uShadowMap", kShadowMapUnit}};
+    for (const auto& [name, unit] : samplers) {
+        const GLint location = optionalUniformLocation(program, name);
+        if (location >= 0)
+            glUniform1i(location, GLint(unit));
+    }
+    bindUniformBlock(program, "Frame", kFrameBlockBinding);
+    bindUniformBlock(program, "Material", kMaterialBlockBinding);
+    checkGlError("linking a variant of the mesh program");
+    return variants_.emplace(features, std::move(variant)).first->second;
+}
+
 void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                     std::span<const IblMaps* const> maps, int skip, Phantoms phantoms, Detail detail,
                     double focalPixels, const PhantomCamera* camera) const
@@ -125,6 +149,7 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         return;
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &frame);
+    viewFeatures_ = viewFeatures(frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
     glActiveTexture(GL_TEXTURE0 + kShadowMapUnit);
     glBindTexture(GL_TEXTURE_2D, shadowMap_);
@@ -156,10 +181,8 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
             order_.push_back({centreDepth(items[i], models), i});
     std::sort(order_.begin(), order_.end());
     StateCache state;
-    glUseProgram(program_.name());
     for (const auto& [depth, i] : order_)
-        drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail,
-                 focalPixels);
+        drawItem(items[i], maps[i], models, state, -1, -1, detail, focalPixels, true);
     if (cameraPhantoms)
         drawCameraPhantoms(*camera, models, items, maps, skip, state, detail, focalPixels);
     glBindVertexArray(0);
@@ -174,6 +197,7 @@ void MeshPass::drawCameraPhantoms(const PhantomCamera& camera, const std::vector
         if (int(i) == skip || !items[i].phantom || items[i].receiverOnly)
             continue;
         if (!bound) {
+            state.variantFeatures = ~0U;
             glUseProgram(phantomProgram_.name());
             glUniformMatrix4fv(phantomFrameCameraFromViewLocation_, 1, GL_FALSE,
                                glm::value_ptr(camera.frameCameraFromView));
@@ -210,9 +234,9 @@ double MeshPass::modelPixels(const DrawItem& item, const GpuModel& model, double
 
 void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
                         StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail,
-                        double focalPixels) const
+                        double focalPixels, bool variants) const
 {
-    const bool shaded = normalFromMeshLocation >= 0;
+    const bool shaded = variants || normalFromMeshLocation >= 0;
     if (shaded)
         state.bindMaps(maps);
     const GpuModel& model = models[size_t(item.model)];
@@ -228,6 +252,16 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
             continue; // flattened to nothing: invisible
         // A mirroring transform turns the winding around (see clipFromCamera for CW).
         state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+        if (variants) {
+            const uint32_t features = model.materials[primitive.material].features | viewFeatures_;
+            if (state.variantFeatures != features) {
+                state.variant = &variant(features);
+                state.variantFeatures = features;
+                glUseProgram(state.variant->program.name());
+            }
+            cameraFromMeshLocation = state.variant->cameraFromMeshLocation;
+            normalFromMeshLocation = state.variant->normalFromMeshLocation;
+        }
         const glm::mat4 cameraFromMeshF(cameraFromMesh);
         glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
         if (shaded) {

@@ -2,6 +2,8 @@
 // environment maps: pass 2 of a frame, and the other objects inside a cube-map face.
 #pragma once
 
+#include <cstdint>
+#include <map>
 #include <span>
 #include <utility>
 #include <vector>
@@ -74,10 +76,23 @@ public:
     // every draw; FrameUniforms says whether to read it). Owned by the caller.
     void setShadowMap(GLuint texture) { shadowMap_ = texture; }
 
+    // mesh.frag linked for one combination of mesh_feature bits (mesh_features.h).
+    struct Variant {
+        GlProgram program;
+        GLint cameraFromMeshLocation = -1;
+        GLint normalFromMeshLocation = -1;
+    };
+
 private:
-    // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
+    // The variant for `features`, linked on first use.
+    const Variant& variant(uint32_t features) const;
+
+    // With `variants`, mesh.frag's variant for each primitive's material and the view
+    // (viewFeatures_), switching programs as needed; else the bound program, whose locations
+    // are given: normalFromMeshLocation < 0 is the depth-only program (no normals, no materials).
     void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
-                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels) const;
+                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels,
+                  bool variants = false) const;
 
     // The phantoms among `items` with phantom.frag.
     void drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -88,9 +103,9 @@ private:
     static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
 
     mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
-    GlProgram program_;
-    GLint cameraFromMeshLocation_;
-    GLint normalFromMeshLocation_;
+    // Linked as draws need them: a scene uses a handful (the car scene six).
+    mutable std::map<uint32_t, Variant> variants_;
+    mutable uint32_t viewFeatures_ = 0; // of the view being drawn
     GlProgram phantomProgram_;
     GLint phantomCameraFromMeshLocation_;
     GLint phantomNormalFromMeshLocation_;

@@ -104,20 +104,30 @@ struct EnvironmentMapOptions {
     IblSettings ibl;
 };
 
-// Milliseconds of the last frame's stages, measured only with RenderOptions::profile (it
-// waits for the GPU between stages, which a real GPU would otherwise overlap).
+// One stage's cost in the last frame: wall-clock milliseconds, and milliseconds of CPU time
+// of the rendering threads (on llvmpipe, the rasteriser's threads: the rendering work itself,
+// which a loaded machine hardly changes; on a GPU, the driver's CPU time alone).
+struct StageTime {
+    double wallMs = 0;
+    double cpuMs = 0;
+};
+
+// The last frame's stages, measured only with RenderOptions::profile (it waits for the GPU
+// between stages, which a real GPU would otherwise overlap).
 struct RenderStats {
     int mapsUpdated = 0;
-    int facesCulled = 0;          // objects left out of cube faces they cannot appear in
-    double environmentMapsMs = 0; // cube faces: skybox and the other objects
-    double shMs = 0;              // SH projection and the diffuse map
-    double prefilterMs = 0;       // the glossy maps
-    double shadingMs = 0;         // background and the objects in the frame
-    double shadowsMs = 0;         // the shadow map (the receivers are drawn within shading)
+    int facesCulled = 0;       // objects left out of cube faces they cannot appear in
+    StageTime environmentMaps; // cube faces: skybox and the other objects
+    StageTime sh;              // SH projection and the diffuse map
+    StageTime prefilter;       // the glossy maps
+    StageTime background;      // the camera image drawn, kept for the maps, the phantoms' depth
+    StageTime shading;         // the objects in the frame
+    StageTime shadows;         // the shadow map
+    StageTime receivers;       // the shadows and contact darkening on the real surfaces
     // The camera image projected into the environment built from it, and that environment's
     // own maps rebuilt (EnvironmentSource::Camera*; 0 with the .hdr alone).
-    double environmentCaptureMs = 0;
-    double postMs = 0; // lens effects (0 when off)
+    StageTime environmentCapture;
+    StageTime post; // lens effects (0 when off)
 };
 
 // Where the real environment's radiance comes from (DESIGN.md §6.5).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -11,10 +10,12 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
+#include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
 #include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/stage_timer.h"
 
 namespace lumar {
 namespace {
@@ -34,8 +35,6 @@ constexpr GLfloat kOffsetUnits = 4.0f;
 constexpr double kMarginTexels = 2.0;
 // phantom_receiver.frag's kOcclusionReach: occluders darken within this many radii.
 constexpr double kOcclusionReach = 2.0;
-
-using Clock = std::chrono::steady_clock;
 
 std::array<glm::dvec3, 8> boxCorners(const GpuModel& model, const glm::dmat4& cameraFromModel)
 {
@@ -176,7 +175,6 @@ void ShadowPass::linkApplyProgram()
     applyRatioFromFragCoordLocation_ = uniformLocation(applyProgram_, "uRatioFromFragCoord");
     glUseProgram(applyProgram_.name());
     glUniform1i(uniformLocation(applyProgram_, "uRatio"), GLint(kRatioUnit));
-    emptyVertexArray_ = GlVertexArray::create();
 }
 
 void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
@@ -193,13 +191,7 @@ void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
     buffer.frameHeight = frameHeight;
     buffer.scale = scale;
     const int width = frameWidth / scale, height = frameHeight / scale;
-    buffer.colour = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, buffer.colour.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, width, height);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    buffer.colour = makeRenderTexture(GL_R8, width, height, GL_LINEAR);
     glBindTexture(GL_TEXTURE_2D, 0);
     buffer.depth = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, buffer.depth.name());
@@ -229,21 +221,19 @@ void ShadowPass::setLight(const DirectionalLight& light)
 }
 
 void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                        const glm::dmat3& environmentFromCamera, bool profile, RenderStats& stats)
+                        const glm::dmat3& environmentFromCamera, RenderCpuClock* profile, RenderStats& stats)
 {
     mapValid_ = false;
     if (!enabled() || !lightSet_)
         return;
-    const auto start = Clock::now();
+    StageTimer timer(profile, profile != nullptr);
     if (fitLightCamera(models, items, environmentFromCamera)) {
         linkDepthProgram();
         drawCasters(models, items);
         mapValid_ = true;
     }
-    if (profile) {
-        glFinish();
-        stats.shadowsMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    }
+    if (profile)
+        timer.split(stats.shadows);
 }
 
 bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
@@ -590,12 +580,11 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
                     1.0f / float(ratio_.frameHeight));
         glActiveTexture(GL_TEXTURE0 + kRatioUnit);
         glBindTexture(GL_TEXTURE_2D, ratio_.colour.name());
-        glBindVertexArray(emptyVertexArray_.name());
         const int s = ratio_.scale;
         for (const PixelRect& rect : rects) {
             glScissor(viewport[0] + rect.x0 * s, viewport[1] + rect.y0 * s, (rect.x1 - rect.x0) * s,
                       (rect.y1 - rect.y0) * s);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
+            drawFullscreenTriangle();
         }
         glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gles_renderer/gl/gl_object.h"
+#include "gles_renderer/gl/render_cpu_clock.h"
 #include "gles_renderer/ibl_gpu/ibl_maps.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/pixel_rects.h"
@@ -35,7 +36,7 @@ public:
     // light turned into the frame's camera frame by `environmentFromCamera`. Leaves the GL
     // framebuffer binding and viewport changed. Does nothing when shadows are off.
     void render(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                const glm::dmat3& environmentFromCamera, bool profile, RenderStats& stats);
+                const glm::dmat3& environmentFromCamera, RenderCpuClock* profile, RenderStats& stats);
 
     // Writes the light's members of `frame` for a view whose camera frame sits at
     // `cameraFromView` in the frame's camera frame (identity for the frame itself). Leaves them
@@ -129,7 +130,6 @@ private:
     RatioBuffer ratio_;
     GlProgram applyProgram_;
     GLint applyRatioFromFragCoordLocation_ = -1;
-    GlVertexArray emptyVertexArray_; // the apply pass's full-screen triangle has no attributes
 };
 
 } // namespace lumar

@@ -158,6 +158,13 @@ TEST(Cli, BenchPrintsItsJsonReport)
     EXPECT_LE(j["frame_ms"]["p50"].get<double>(), j["frame_ms"]["p99"].get<double>());
     for (const char* stage : {"capture", "detect", "render", "readback"})
         EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
+    // Profiled: every render stage has its wall and CPU time; the frame drew something.
+    for (const char* stage : {"env_maps", "sh", "prefilter", "background", "shading", "shadows", "receivers", "post"}) {
+        EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
+        EXPECT_GE(j["stages_cpu_ms"][stage].get<double>(), 0.0) << stage;
+    }
+    EXPECT_GT(j["stages_cpu_ms"]["shading"].get<double>(), 0.0);
+    EXPECT_GT(j["cpu_ms_per_frame"].get<double>(), 0.0);
     EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
     EXPECT_GE(j["peak_rss_mb"].get<double>(), j["rss_mb"].get<double>());
     EXPECT_EQ(j["source"], "live");

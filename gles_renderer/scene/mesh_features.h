@@ -1,0 +1,36 @@
+// What a material and a view need of shaders_es/mesh.frag, as the bits that select a variant
+// of it. llvmpipe runs both sides of every branch, uniform ones included: a texture lookup
+// a material does not need costs as much as one it does unless the compiler removes it, so
+// MeshPass links one variant per combination in use. On llvmpipe this took the car scene's
+// objects from 36 to about 14 ms of rasteriser CPU per frame (see mesh_pass.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "gles_renderer/scene/uniform_blocks.h"
+
+namespace lumar {
+
+namespace mesh_feature {
+// Of the material (GpuMaterial::features).
+inline constexpr uint32_t kBaseColorTexture = 1U << 0;
+inline constexpr uint32_t kSecondTexture = 1U << 1; // rho_s (Lafortune) or metallic-roughness
+inline constexpr uint32_t kLobeTexture = 1U << 2;
+inline constexpr uint32_t kRotationTexture = 1U << 3;
+inline constexpr uint32_t kLafortune = 1U << 4;
+inline constexpr uint32_t kNormalMap = 1U << 5;
+inline constexpr uint32_t kEmission = 1U << 6;
+// Of the view (viewFeatures).
+inline constexpr uint32_t kShadow = 1U << 7;
+inline constexpr uint32_t kRgbmMaps = 1U << 8;
+inline constexpr uint32_t kWritesRadiance = 1U << 9;
+} // namespace mesh_feature
+
+// The view's bits, from the frame's uniforms as mesh.frag would read them.
+uint32_t viewFeatures(const FrameUniforms& frame);
+
+// mesh.frag's #define lines fixing every feature to true or false.
+std::string meshVariantDefines(uint32_t features);
+
+} // namespace lumar
