@@ -1,12 +1,12 @@
 #include "gles_renderer/gl/render_cpu_clock.h"
 
-#include <dirent.h>
-#include <sys/types.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <string>
+
+#include <dirent.h>
+#include <sys/types.h>
 
 namespace lumar {
 namespace {

@@ -2,7 +2,7 @@
 // of it. llvmpipe runs both sides of every branch, uniform ones included: a texture lookup
 // a material does not need costs as much as one it does unless the compiler removes it, so
 // MeshPass links one variant per combination in use. On llvmpipe this took the car scene's
-// objects from 36 to about 14 ms of rasteriser CPU per frame (see mesh_pass.h).
+// objects from 44 to 24 ms of rendering CPU per frame without shadows, 46 to 38 with them.
 #pragma once
 
 #include <cstdint>

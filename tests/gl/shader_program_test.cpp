@@ -1,6 +1,7 @@
 // Every embedded shader compiles on the real driver and every program links.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,7 @@
 #include "embedded_shaders.h"
 #include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/mesh_features.h"
 
 namespace lumar {
 namespace {
@@ -63,6 +65,47 @@ TEST_F(Shaders, ProgramWithoutARequestedUniformIsARuntimeError)
     const GlProgram program = linkProgram(kBackgroundProgram);
     EXPECT_THROW(uniformLocation(program, "uNoSuchUniform"), RuntimeError);
     EXPECT_THROW(bindUniformBlock(program, "NoSuchBlock", 0), RuntimeError);
+}
+
+TEST_F(Shaders, DefinesGoAfterTheVersionLine)
+{
+    // A define the source then uses: without it in the source, the program would compile.
+    EXPECT_THROW(linkProgram(kMeshProgram, "#define HAS_SHADOW no_such_identifier\n"), RuntimeError);
+    EXPECT_NO_THROW(linkProgram(kMeshProgram, ""));
+}
+
+TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
+{
+    using namespace mesh_feature;
+    const uint32_t all = kBaseColorTexture | kSecondTexture | kLobeTexture | kRotationTexture | kLafortune |
+                         kNormalMap | kEmission | kShadow | kRgbmMaps | kWritesRadiance;
+    std::vector<uint32_t> masks = {0U, all};
+    for (uint32_t bit = 1; (bit & all) != 0; bit <<= 1)
+        masks.push_back(bit);
+    for (const uint32_t mask : masks) {
+        SCOPED_TRACE("features " + std::to_string(mask));
+        GlProgram program;
+        ASSERT_NO_THROW(program = linkProgram(kMeshProgram, meshVariantDefines(mask)));
+        // The samplers a variant reads are exactly those its features need.
+        EXPECT_EQ(optionalUniformLocation(program, "uBaseColor") >= 0, (mask & kBaseColorTexture) != 0);
+        EXPECT_EQ(optionalUniformLocation(program, "uNormal") >= 0, (mask & kNormalMap) != 0);
+        EXPECT_EQ(optionalUniformLocation(program, "uEmissive") >= 0, (mask & kEmission) != 0);
+        EXPECT_EQ(optionalUniformLocation(program, "uShadowMap") >= 0, (mask & kShadow) != 0);
+        EXPECT_EQ(optionalUniformLocation(program, "uLobe") >= 0,
+                  (mask & kLobeTexture) != 0 && (mask & kLafortune) != 0);
+        EXPECT_GE(optionalUniformLocation(program, "uMirrorMap"), 0);
+    }
+}
+
+TEST(MeshVariantDefines, FixEveryFeatureOnce)
+{
+    const std::string defines = meshVariantDefines(mesh_feature::kShadow);
+    EXPECT_NE(defines.find("#define HAS_SHADOW true\n"), std::string::npos) << defines;
+    EXPECT_NE(defines.find("#define HAS_BASE_COLOR_TEXTURE false\n"), std::string::npos) << defines;
+    size_t lines = 0;
+    for (const char c : defines)
+        lines += c == '\n' ? 1 : 0;
+    EXPECT_EQ(lines, 10U);
 }
 
 } // namespace
