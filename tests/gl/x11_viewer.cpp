@@ -92,4 +92,19 @@ void X11Viewer::resize(unsigned long window, int width, int height) const
     XSync(asDisplay(display_), False);
 }
 
+void X11Viewer::typeKey(unsigned long window, char c) const
+{
+    Display* display = asDisplay(display_);
+    XEvent event{};
+    event.xkey.type = KeyPress;
+    event.xkey.display = display;
+    event.xkey.window = Window(window);
+    event.xkey.root = DefaultRootWindow(display);
+    event.xkey.time = CurrentTime;
+    event.xkey.same_screen = True;
+    event.xkey.keycode = XKeysymToKeycode(display, KeySym(static_cast<unsigned char>(c)));
+    XSendEvent(display, Window(window), True, KeyPressMask, &event);
+    XSync(display, False);
+}
+
 } // namespace lumar::test
