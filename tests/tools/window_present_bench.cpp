@@ -80,27 +80,51 @@ int main(int argc, char** argv)
     if (!shm.window->presentsFromMemory())
         std::fprintf(stderr, "MIT-SHM refused: the second column is the EGL swap too\n");
 
+    // The setup view of four tags (outline, axes, label each) and a status line, drawn before
+    // the readback in the fourth column: its cost is that column less the third.
+    lumar::OverlayScene overlay;
+    for (int t = 0; t < 4; ++t) {
+        const glm::dvec2 c(200.0 + 250.0 * t, 360.0);
+        const glm::dvec2 corners[4] = {c + glm::dvec2(-80, -70), c + glm::dvec2(80, -60), c + glm::dvec2(70, 80),
+                                       c + glm::dvec2(-75, 70)};
+        for (int i = 0; i < 4; ++i)
+            overlay.lines.push_back({corners[i], corners[(i + 1) % 4], {40, 255, 80, 255}, 2.0f});
+        for (int a = 0; a < 3; ++a)
+            overlay.lines.push_back({c, c + glm::dvec2(40.0 * (a == 0), -40.0 * (a == 1)), {255, 40, 40, 255}, 2.0f});
+        overlay.texts.push_back({c + glm::dvec2(-40, 90), "id 3  0.25 px", {40, 255, 80, 255}, {0, 0, 0, 170}, 1, 2});
+    }
+    overlay.texts.push_back({{6, 6},
+                             "frame 1234  markers 4  objects 2  30.0 fps  latency p50 45 ms  camera ok",
+                             {255, 255, 255, 255},
+                             {0, 0, 0, 170},
+                             1,
+                             3});
+
     using Clock = std::chrono::steady_clock;
-    std::vector<double> swapMs, shmMs, readbackMs;
+    std::vector<double> swapMs, shmMs, readbackMs, overlayMs;
     lumar::Image8 out;
     for (int round = 0; round < rounds; ++round) {
-        for (int pass = 0; pass < 3; ++pass) {
+        for (int pass = 0; pass < 4; ++pass) {
             const auto start = Clock::now();
             for (int i = 0; i < frames; ++i) {
                 if (pass == 0)
                     swap.renderer->present(*swap.window);
                 else if (pass == 1)
                     shm.renderer->present(*shm.window);
-                else
+                else if (pass == 2)
                     shm.renderer->readback(out);
+                else {
+                    shm.renderer->drawOverlay(overlay);
+                    shm.renderer->readback(out);
+                }
             }
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / frames;
-            (pass == 0 ? swapMs : pass == 1 ? shmMs : readbackMs).push_back(ms);
+            (pass == 0 ? swapMs : pass == 1 ? shmMs : pass == 2 ? readbackMs : overlayMs).push_back(ms);
         }
     }
     std::printf("%dx%d, %d rounds of %d frames, medians per frame: EGL swap %.2f ms, MIT-SHM %.2f ms, headless "
-                "readback %.2f ms (swap/shm %.1fx)\n",
+                "readback %.2f ms (swap/shm %.1fx); overlay + readback %.2f ms\n",
                 width, height, rounds, frames, median(swapMs), median(shmMs), median(readbackMs),
-                median(swapMs) / median(shmMs));
+                median(swapMs) / median(shmMs), median(overlayMs));
     return 0;
 }
