@@ -18,6 +18,8 @@ build_packages=(
   libcli11-dev # the command line (daemon/cli/lumar_command_line.cpp)
   libcairo2-dev # lumar markers: PDF, SVG and PNG pages (daemon/markers)
   libx11-dev # the preview window (gles_renderer/window), on EGL's X11 platform
+  libxext-dev # the preview window's MIT-SHM presentation on a software rasteriser
+  libfreetype-dev fonts-dejavu-core # the overlay's font, rasterised at build time (gles_renderer/overlay)
   libsystemd-dev
   glslang-tools
 )

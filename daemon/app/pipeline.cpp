@@ -23,6 +23,7 @@
 #include "ground_plane.h"
 #include "object_placement.h"
 #include "phantom_model.h"
+#include "setup_overlay.h"
 #include "tracking/calibration_io.h"
 
 namespace lumar {
@@ -276,7 +277,7 @@ RenderOptions renderOptionsFor(const Config& config)
 }
 
 Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int replayFrames, bool realTime)
-    : config_(config), profile_(profile), window_(window)
+    : config_(config), profile_(profile), window_(window), overlayOn_(config.output.overlay)
 {
     // Constructed first, so destroyed last: once the loaded models and maps below are freed.
     struct ReleaseWhenLoaded {
@@ -463,6 +464,8 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
     } else {
         renderer_->removeModels();
     }
+    if (prepared.config.output.overlay != config_.output.overlay)
+        overlayOn_ = prepared.config.output.overlay;
     config_ = std::move(prepared.config);
     intrinsics_ = prepared.intrinsics;
     filterSettings_ = filterSettingsFor(config_.tracking);
@@ -590,6 +593,8 @@ bool Pipeline::step(FrameReport& report)
     else
         renderer_->render(frame_.ycbcr, intrinsics_, drawItems_);
     report.objectsDrawn = objectsDrawn;
+    if (overlayOn_)
+        drawSetupOverlay(report);
     report.times.renderMs = millisecondsSince(start);
 
     // On a display the frame goes to the screen without leaving the GPU; otherwise it is
@@ -619,6 +624,27 @@ void Pipeline::detectInBackground()
 {
     if (!worker_)
         worker_ = std::make_unique<DetectionWorker>(*tracker_);
+}
+
+void Pipeline::drawSetupOverlay(const FrameReport& report)
+{
+    SetupOverlayInput input;
+    input.intrinsics = intrinsics_;
+    input.detections = report.detections;
+    input.maps = report.maps;
+    input.tagSize = [this](int id) { return config_.markerSize(id); };
+    input.mapAxisLength = [this](int index) {
+        double largest = 0.0;
+        if (index >= 0 && size_t(index) < config_.maps.size())
+            for (const MapTagConfig& tag : config_.maps[size_t(index)].tags)
+                largest = std::max(largest, tag.size);
+        return largest;
+    };
+    input.status = "frame " + std::to_string(frame_.sequence) + "  markers " +
+                   std::to_string(report.detections.size()) + "  objects " + std::to_string(report.objectsDrawn) +
+                   (overlayStatus_.empty() ? "" : "  " + overlayStatus_);
+    buildSetupOverlay(input, overlay_);
+    renderer_->drawOverlay(overlay_);
 }
 
 Pose Pipeline::poseAt(const MarkerState& marker, int64_t timestampNs) const

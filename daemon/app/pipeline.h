@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "capture/capture_source.h"
@@ -107,6 +108,15 @@ public:
     // expected display time. (`lumar run`; `lumar render` stays frame-exact.)
     void detectInBackground();
 
+    // The setup view (setup_overlay.h) over every frame from the next step on; off, frames are
+    // what the renderer composited, bit for bit. Starts as [output] overlay says; a reload
+    // that changes that value sets it again.
+    void setOverlay(bool on) { overlayOn_ = on; }
+    [[nodiscard]] bool overlay() const { return overlayOn_; }
+    // What the view's status line shows after the pipeline's own part (the run loop: the
+    // measured frame rate, the camera's state).
+    void setOverlayStatus(std::string text) { overlayStatus_ = std::move(text); }
+
     [[nodiscard]] const Image8& output() const { return output_; }
     [[nodiscard]] const Frame& cameraFrame() const { return frame_; }
     [[nodiscard]] const CameraIntrinsics& intrinsics() const { return intrinsics_; }
@@ -144,6 +154,7 @@ private:
     // Maps share markers_ (and its filtering) under keys no tag id can take.
     static int mapKey(int mapIndex) { return -1 - mapIndex; }
     void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
+    void drawSetupOverlay(const FrameReport& report);
     // Returns the free pages loading left in malloc's heaps to the system.
     static void releaseLoadingMemory();
 
@@ -175,6 +186,9 @@ private:
     Frame frame_;
     int64_t previousCapturedNs_ = 0; // the frame presented before frame_ (KMS latency)
     Image8 output_;
+    bool overlayOn_ = false;
+    std::string overlayStatus_;
+    OverlayScene overlay_; // reused from frame to frame
 };
 
 } // namespace lumar

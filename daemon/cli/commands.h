@@ -29,6 +29,7 @@ struct RunCommandOptions {
     ConfigOptions config;
     long frames = 0;      // 0: until SIGINT or SIGTERM
     bool preview = false; // show the frames in a desktop window ([output] sink = "window")
+    bool overlay = false; // draw the setup view ([output] overlay = true)
 };
 
 struct CheckConfigCommandOptions {

@@ -286,6 +286,9 @@ chosen once: a reload keeps it.)");
     addConfigFile(*c, o.config);
     addInteger(*c, "--frames", o.frames, {0, double(1L << 40)}, "stop after N frames, 0: run until stopped");
     addFlag(*c, "--preview", o.preview, "show the frames in a desktop window (X11), as [output] sink = \"window\"");
+    addFlag(*c, "--overlay", o.overlay,
+            "draw the setup view (tag outlines, ids, axes, errors, status) over every frame, as [output] overlay = "
+            "true; the key o toggles it in the window");
     addConfigLogLevel(*c, o.config);
     c->footer(R"(The configuration file is reloaded when it changes on disk (editors and mv included) or on
 SIGHUP; a file with an error is rejected with its FILE:LINE message and the last good

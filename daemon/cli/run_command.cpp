@@ -129,6 +129,15 @@ private:
     std::chrono::steady_clock::time_point nextStill_{};
 };
 
+// The run loop's part of the setup view's status line (app/setup_overlay.h).
+std::string overlayStatus(const RunStatus& status)
+{
+    char line[160];
+    std::snprintf(line, sizeof line, "%.1f fps  latency p50 %.0f ms  camera %s", status.fps,
+                  status.latencyP50Ms.value_or(0.0), status.camera.c_str());
+    return line;
+}
+
 // Everything a configuration builds; updated in place by a reload that keeps the camera,
 // replaced as a whole by one that does not.
 // The KMS display or the preview window (`display`) is opened once per process and outlives
@@ -224,7 +233,9 @@ int runCommand(const RunCommandOptions& options)
     const long maxFrames = options.frames;
     const auto commandStarted = std::chrono::steady_clock::now(); // start-up's fallback origin
 
-    const Config config = configFromOptions(options.config);
+    Config config = configFromOptions(options.config);
+    if (options.overlay)
+        config.output.overlay = true;
     // Declared before the scene: its renderers draw on the display's EGL display.
     std::unique_ptr<KmsDisplay> kms;
     std::unique_ptr<X11Window> window;
@@ -276,6 +287,10 @@ int runCommand(const RunCommandOptions& options)
                 window->fitFrame(frame.width, frame.height);
             }
             window->pollEvents();
+            // The key o turns the setup view on and off.
+            for (const char key : window->takeTypedKeys())
+                if (key == 'o' || key == 'O')
+                    scene->pipeline->setOverlay(!scene->pipeline->overlay());
             if (window->closeRequested()) {
                 LUMAR_LOG(App, Info) << "the preview window was closed";
                 break;
@@ -350,6 +365,7 @@ int runCommand(const RunCommandOptions& options)
                 status.markersVisible.push_back(d.id);
             status.uptimeS = std::chrono::duration<double>(now - started).count();
             scene->statusFile.write(status);
+            scene->pipeline->setOverlayStatus(overlayStatus(status));
             if (++windows % 5 == 0) {
                 const std::string line = statusLine();
                 LUMAR_LOG(App, Info) << "status: " << line;

@@ -600,6 +600,7 @@ void readOutput(TableReader& root, OutputConfig& output, const Context& ctx)
     if (!output.path.empty() && extension != ".png" && extension != ".y4m")
         r.fail(table->get("path"), "path", output.path.string() + ": expected a .png or .y4m file");
     r.path("status_path", output.statusPath, ctx.baseDir, Expect::Parent);
+    r.boolean("overlay", output.overlay);
     r.finish();
 }
 

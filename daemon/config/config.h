@@ -249,6 +249,7 @@ struct OutputConfig {
     std::string kmsApi = "auto";      // "auto" (atomic where the driver has it) | "legacy"
     std::filesystem::path path;       // .png or .y4m for `lumar run`; empty: no file (kms: the fallback)
     std::filesystem::path statusPath; // `lumar run` state as JSON, e.g. /run/lumar/status.json
+    bool overlay = false;             // the setup view over every frame (app/setup_overlay.h); `lumar run --overlay`
     bool operator==(const OutputConfig&) const = default;
 };
 

@@ -264,10 +264,9 @@ void EglContext::makeCurrent() const
         throw RuntimeError("cannot make the OpenGL ES context current: " + eglErrorName(eglGetError()));
 }
 
-EglWindowSurface::EglWindowSurface(std::shared_ptr<EglDisplay> display, void* gbmSurface, uint32_t gbmFormat)
-    : display_(std::move(display))
+EGLConfig chooseWindowConfig(EGLDisplay display, const std::function<int(EGLint nativeVisualId)>& rank,
+                             const char* where, const char* rejectedWhy)
 {
-    const EGLDisplay dpy = display_->handle();
     const EGLint attributes[] = {EGL_SURFACE_TYPE,
                                  EGL_WINDOW_BIT,
                                  EGL_RENDERABLE_TYPE,
@@ -280,19 +279,38 @@ EglWindowSurface::EglWindowSurface(std::shared_ptr<EglDisplay> display, void* gb
                                  8,
                                  EGL_NONE};
     EGLint count = 0;
-    if (!eglChooseConfig(dpy, attributes, nullptr, 0, &count) || count < 1)
-        throw RuntimeError("no EGL window config with OpenGL ES 3 and 8-bit colour on the GBM display");
+    if (!eglChooseConfig(display, attributes, nullptr, 0, &count) || count < 1)
+        throw RuntimeError(std::string("no EGL window config with OpenGL ES 3 and 8-bit colour on the ") + where +
+                           " display");
     std::vector<EGLConfig> configs(static_cast<size_t>(count));
-    eglChooseConfig(dpy, attributes, configs.data(), count, &count);
-    // GBM surfaces take the config whose native visual id is their DRM format.
+    if (!eglChooseConfig(display, attributes, configs.data(), count, &count))
+        throw RuntimeError(std::string("cannot list the EGL window configs on the ") + where +
+                           " display: " + eglErrorName(eglGetError()));
     EGLConfig chosen = nullptr;
-    for (EGLint i = 0; i < count && !chosen; ++i) {
+    int best = -1;
+    for (EGLint i = 0; i < count; ++i) {
         EGLint visual = 0;
-        if (eglGetConfigAttrib(dpy, configs[size_t(i)], EGL_NATIVE_VISUAL_ID, &visual) && uint32_t(visual) == gbmFormat)
+        if (!eglGetConfigAttrib(display, configs[size_t(i)], EGL_NATIVE_VISUAL_ID, &visual))
+            continue;
+        const int score = rank(visual);
+        if (score > best) {
+            best = score;
             chosen = configs[size_t(i)];
+        }
     }
     if (!chosen)
-        throw RuntimeError("no EGL window config for the scan-out format");
+        throw RuntimeError(rejectedWhy);
+    return chosen;
+}
+
+EglWindowSurface::EglWindowSurface(std::shared_ptr<EglDisplay> display, void* gbmSurface, uint32_t gbmFormat)
+    : display_(std::move(display))
+{
+    const EGLDisplay dpy = display_->handle();
+    // GBM surfaces take the config whose native visual id is their DRM format.
+    const EGLConfig chosen = chooseWindowConfig(
+        dpy, [gbmFormat](EGLint visual) { return uint32_t(visual) == gbmFormat ? 0 : -1; }, "GBM",
+        "no EGL window config for the scan-out format");
     const auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
         eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
     if (!createSurface)

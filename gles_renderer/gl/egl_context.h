@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -64,6 +65,14 @@ private:
     std::string driverName_;
     std::string drmDeviceFile_;
 };
+
+// The window config for a surface the renderer presents into (a KMS scan-out buffer, a
+// desktop window): OpenGL ES 3 renderable, 8-bit red, green and blue. `rank` scores each
+// candidate by its native visual id (a DRM format on GBM, an X visual on X11): negative
+// rejects it, and the first of the highest score is taken. Throws RuntimeError naming
+// `where` when the display has no such config or `rank` rejects them all (`rejectedWhy`).
+EGLConfig chooseWindowConfig(EGLDisplay display, const std::function<int(EGLint nativeVisualId)>& rank,
+                             const char* where, const char* rejectedWhy);
 
 // An OpenGL ES 3.0 (or later, compatible) context with no surface. Make it current before
 // any GL call; destroying it releases it from the thread first.

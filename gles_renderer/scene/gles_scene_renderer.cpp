@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/gl/cpu_present.h"
 #include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/frame_readback.h"
 #include "gles_renderer/gl/gl_check.h"
@@ -15,6 +16,7 @@
 #include "gles_renderer/gl/render_target.h"
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
+#include "gles_renderer/overlay/overlay_pass.h"
 #include "gles_renderer/scene/background_pass.h"
 #include "gles_renderer/scene/camera_environment.h"
 #include "gles_renderer/scene/camera_image.h"
@@ -163,6 +165,17 @@ public:
         renderOver([&] { background_.draw(background); }, intrinsics, items);
     }
 
+    void drawOverlay(const OverlayScene& overlay) override
+    {
+        if (overlay.empty())
+            return;
+        context_.makeCurrent();
+        if (!overlay_)
+            overlay_ = std::make_unique<OverlayPass>(); // on first use: off costs nothing
+        overlay_->draw(overlay, target_.readFramebuffer(), width_, height_);
+        glFlush();
+    }
+
     void readback(Image8& rgb) override
     {
         context_.makeCurrent();
@@ -171,12 +184,20 @@ public:
 
     void present(WindowTarget& window) override
     {
+        if (const auto pixels = window.cpuPixels()) {
+            // Shown from memory (a software rasteriser's X11 window): no EGL surface.
+            context_.makeCurrent();
+            if (!cpuPresenter_)
+                cpuPresenter_ = std::make_unique<CpuPresenter>();
+            cpuPresenter_->write(target_.readFramebuffer(), width_, height_, window, *pixels);
+            window.showSwapped();
+            return;
+        }
         context_.makeCurrent(window.surface());
         // Fit the frame into the window keeping its aspect (black bars), flipping it: the
         // frame's row 0 is the image's top, the window's is its bottom.
-        const double scale = std::min(double(window.width()) / width_, double(window.height()) / height_);
-        const int w = int(std::lround(width_ * scale)), h = int(std::lround(height_ * scale));
-        const int x = (window.width() - w) / 2, y = (window.height() - h) / 2;
+        const FittedRect fitted = fitFrame(width_, height_, window.width(), window.height());
+        const int w = fitted.width, h = fitted.height, x = fitted.x, y = fitted.y;
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
         glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.readFramebuffer());
         if (w != window.width() || h != window.height()) {
@@ -346,7 +367,9 @@ private:
     RenderCpuClock cpuClock_; // read only with profile_
     RenderStats stats_;
     FrameUniforms frame_;
-    std::unique_ptr<LensEffects> lens_; // with RenderOptions::lens
+    std::unique_ptr<LensEffects> lens_;          // with RenderOptions::lens
+    std::unique_ptr<OverlayPass> overlay_;       // made by the first drawOverlay()
+    std::unique_ptr<CpuPresenter> cpuPresenter_; // made by the first present() from memory
 };
 
 } // namespace

@@ -13,6 +13,7 @@
 #include "gles_renderer/assets/environment_map.h"
 #include "gles_renderer/assets/gltf_model.h"
 #include "gles_renderer/ibl_gpu/ibl_maps.h"
+#include "gles_renderer/overlay/overlay_scene.h"
 
 namespace lumar {
 
@@ -196,6 +197,10 @@ public:
     // converted to RGB on the GPU with the frame's matrix and range.
     virtual void render(const YCbCrImage& background, const CameraIntrinsics& intrinsics,
                         std::span<const DrawItem> items) = 0;
+    // Draws `overlay` (lines and text, the setup view) over the last rendered frame, after
+    // compositing: readback() and present() show it. Never called, nothing is spent and the
+    // frame is what render() made, bit for bit.
+    virtual void drawOverlay(const OverlayScene& overlay) = 0;
     // The last rendered frame, 3 channels, row 0 at the top.
     virtual void readback(Image8& rgb) = 0;
     // Copies the last rendered frame into `window` (a surface on RenderOptions::display),

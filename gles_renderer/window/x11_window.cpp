@@ -1,13 +1,16 @@
 #include "gles_renderer/window/x11_window.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
-#include <vector>
 
 #include <EGL/eglext.h>
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
+#include <X11/extensions/XShm.h>
 #include <poll.h>
+#include <sys/ipc.h>
+#include <sys/shm.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -47,7 +50,99 @@ struct X11Window::XConnection {
     }
 };
 
+// The frame shown through MIT-SHM: an XImage whose pixels live in a System V shared segment
+// the X server has attached too.
+struct X11Window::SharedImage {
+    Display* display = nullptr;
+    XImage* image = nullptr;
+    XShmSegmentInfo segment{};
+    bool attached = false;
+
+    SharedImage() { segment.shmid = -1; }
+    SharedImage(const SharedImage&) = delete;
+    SharedImage& operator=(const SharedImage&) = delete;
+    // `serverAlive`: false after the connection broke (no more requests then).
+    void release(bool serverAlive)
+    {
+        if (attached && serverAlive) {
+            XShmDetach(display, &segment);
+            XSync(display, False);
+        }
+        attached = false;
+        if (image) {
+            image->data = nullptr; // the segment's, not malloc's: XDestroyImage must not free it
+            XDestroyImage(image);
+            image = nullptr;
+        }
+        if (segment.shmaddr && segment.shmaddr != reinterpret_cast<char*>(-1))
+            shmdt(segment.shmaddr);
+        segment.shmaddr = nullptr;
+    }
+    ~SharedImage() { release(false); }
+};
+
 namespace {
+
+bool gSharedMemoryRefused = false;
+
+extern "C" int trapSharedMemoryError(Display*, XErrorEvent*)
+{
+    gSharedMemoryRefused = true;
+    return 0;
+}
+
+// A `width` x `height` image in a shared segment the server has attached, or nullptr (with
+// `why`) where MIT-SHM is missing, refused (a server on another machine) or the visual's
+// pixels are not 32-bit B, G, R, X in memory.
+std::unique_ptr<X11Window::SharedImage> makeSharedImage(Display* display, Visual* visual, int depth, int width,
+                                                        int height, std::string& why)
+{
+    if (!XShmQueryExtension(display)) {
+        why = "the X server has no MIT-SHM";
+        return nullptr;
+    }
+    auto shared = std::make_unique<X11Window::SharedImage>();
+    shared->display = display;
+    shared->image = XShmCreateImage(display, visual, unsigned(depth), ZPixmap, nullptr, &shared->segment,
+                                    unsigned(width), unsigned(height));
+    if (!shared->image) {
+        why = "XShmCreateImage failed";
+        return nullptr;
+    }
+    const XImage& image = *shared->image;
+    if (image.bits_per_pixel != 32 || image.byte_order != LSBFirst || image.red_mask != 0xff0000 ||
+        image.green_mask != 0xff00 || image.blue_mask != 0xff) {
+        why = "the window's visual is not 32-bit BGRX";
+        shared->release(true);
+        return nullptr;
+    }
+    shared->segment.shmid = shmget(IPC_PRIVATE, size_t(image.bytes_per_line) * size_t(height), IPC_CREAT | 0600);
+    if (shared->segment.shmid < 0) {
+        why = "shmget failed";
+        shared->release(true);
+        return nullptr;
+    }
+    shared->segment.shmaddr = static_cast<char*>(shmat(shared->segment.shmid, nullptr, 0));
+    shared->image->data = shared->segment.shmaddr;
+    shared->segment.readOnly = True;
+    bool attached = false;
+    if (shared->segment.shmaddr != reinterpret_cast<char*>(-1)) {
+        gSharedMemoryRefused = false;
+        XSync(display, False);
+        const auto previous = XSetErrorHandler(trapSharedMemoryError);
+        attached = XShmAttach(display, &shared->segment) && (XSync(display, False), !gSharedMemoryRefused);
+        XSetErrorHandler(previous);
+    }
+    // Removed now: the segment goes when both sides have detached, even if lumar dies.
+    shmctl(shared->segment.shmid, IPC_RMID, nullptr);
+    if (!attached) {
+        why = "the X server refused the shared segment (a server on another machine?)";
+        shared->release(true);
+        return nullptr;
+    }
+    shared->attached = true;
+    return shared;
+}
 
 // Xlib's default handlers print several lines and exit(1) on a broken connection or any
 // protocol error; lumar says it in one line. libX11 >= 1.7 lets the exit handler return, but
@@ -77,55 +172,43 @@ extern "C" int logProtocolError(Display* display, XErrorEvent* error)
     return 0;
 }
 
+// The X visual behind an EGL config's native visual id: depth 0 when the server has none.
+XVisualInfo visualOf(Display* x, EGLint visualId)
+{
+    XVisualInfo visual{};
+    if (visualId == 0)
+        return visual;
+    XVisualInfo wanted{};
+    wanted.visualid = VisualID(visualId);
+    int found = 0;
+    if (XVisualInfo* info = XGetVisualInfo(x, VisualIDMask, &wanted, &found)) {
+        visual = *info;
+        XFree(info);
+    }
+    return visual;
+}
+
 // An ES 3 window config whose X visual has 24 bits of depth (a 32-bit ARGB visual would make a
-// compositor blend the window with what lies behind it).
+// compositor blend the window with what lies behind it), else any with an X visual.
 EGLConfig chooseConfig(EGLDisplay egl, Display* x, XVisualInfo& visual)
 {
-    const EGLint attributes[] = {EGL_SURFACE_TYPE,
-                                 EGL_WINDOW_BIT,
-                                 EGL_RENDERABLE_TYPE,
-                                 EGL_OPENGL_ES3_BIT,
-                                 EGL_RED_SIZE,
-                                 8,
-                                 EGL_GREEN_SIZE,
-                                 8,
-                                 EGL_BLUE_SIZE,
-                                 8,
-                                 EGL_NONE};
-    EGLint count = 0;
-    if (!eglChooseConfig(egl, attributes, nullptr, 0, &count) || count < 1)
-        throw RuntimeError("no EGL window config with OpenGL ES 3 and 8-bit colour on the X11 display");
-    std::vector<EGLConfig> configs(static_cast<size_t>(count));
-    eglChooseConfig(egl, attributes, configs.data(), count, &count);
-    EGLConfig fallback = nullptr;
-    for (EGLint i = 0; i < count; ++i) {
-        EGLint id = 0;
-        if (!eglGetConfigAttrib(egl, configs[size_t(i)], EGL_NATIVE_VISUAL_ID, &id) || id == 0)
-            continue;
-        XVisualInfo wanted{};
-        wanted.visualid = VisualID(id);
-        int found = 0;
-        XVisualInfo* info = XGetVisualInfo(x, VisualIDMask, &wanted, &found);
-        if (!info)
-            continue;
-        const bool opaque = info->depth == 24;
-        if (opaque || !fallback) {
-            visual = *info;
-            fallback = configs[size_t(i)];
-        }
-        XFree(info);
-        if (opaque)
-            return configs[size_t(i)];
-    }
-    if (!fallback)
-        throw RuntimeError("no EGL window config with an X visual on the X11 display");
-    return fallback;
+    const EGLConfig config = chooseWindowConfig(
+        egl,
+        [x](EGLint id) {
+            const int depth = visualOf(x, id).depth;
+            return depth == 24 ? 1 : depth > 0 ? 0 : -1;
+        },
+        "X11", "no EGL window config with an X visual on the X11 display");
+    EGLint id = 0;
+    eglGetConfigAttrib(egl, config, EGL_NATIVE_VISUAL_ID, &id);
+    visual = visualOf(x, id);
+    return config;
 }
 
 } // namespace
 
 std::unique_ptr<X11Window> X11Window::open(const std::string& displayName, const std::string& title, int width,
-                                           int height, std::string& why)
+                                           int height, std::string& why, X11Presentation presentation)
 {
     auto window = std::unique_ptr<X11Window>(new X11Window());
     window->x_ = std::make_unique<XConnection>();
@@ -152,7 +235,7 @@ std::unique_ptr<X11Window> X11Window::open(const std::string& displayName, const
     attributes.colormap = window->colormap_;
     attributes.background_pixel = BlackPixel(x.display, visual.screen);
     attributes.border_pixel = 0;
-    attributes.event_mask = StructureNotifyMask;
+    attributes.event_mask = StructureNotifyMask | KeyPressMask;
     window->window_ =
         XCreateWindow(x.display, root, 0, 0, unsigned(width), unsigned(height), 0, visual.depth, InputOutput,
                       visual.visual, CWColormap | CWBackPixel | CWBorderPixel | CWEventMask, &attributes);
@@ -186,6 +269,29 @@ std::unique_ptr<X11Window> X11Window::open(const std::string& displayName, const
     if (x.lost)
         throw RuntimeError("the X display closed while opening the preview window");
 
+    const std::string& driver = window->eglDisplay_->driverName();
+    const bool software = driver == "swrast" || driver == "kms_swrast";
+    if (presentation == X11Presentation::SharedMemory || (presentation == X11Presentation::Auto && software)) {
+        window->visual_ = visual.visual;
+        window->visualDepth_ = visual.depth;
+        std::string refused;
+        window->image_ =
+            makeSharedImage(x.display, visual.visual, visual.depth, window->width_, window->height_, refused);
+        if (window->image_) {
+            window->gc_ = XCreateGC(x.display, window->window_, 0, nullptr);
+            window->sharedMemory_ = true;
+        } else {
+            LUMAR_LOG(Output, Info) << "preview window: no MIT-SHM presentation (" << refused
+                                    << "); frames go through EGL's window surface";
+        }
+    }
+    window->eglDisplay_->setWindowConfig(config);
+    if (window->sharedMemory_) {
+        LUMAR_LOG(Output, Info) << "preview window " << width << "x" << height << " on X display "
+                                << DisplayString(x.display) << " (EGL " << driver << ", shown through MIT-SHM)";
+        return window;
+    }
+
     const auto createSurface = reinterpret_cast<PFNEGLCREATEPLATFORMWINDOWSURFACEEXTPROC>(
         eglGetProcAddress("eglCreatePlatformWindowSurfaceEXT"));
     if (!createSurface)
@@ -211,7 +317,12 @@ X11Window::~X11Window()
     }
     // EGL lets go of the X connection before it closes.
     eglDisplay_.reset();
-    if (x_ && x_->alive()) {
+    const bool alive = x_ && x_->alive();
+    if (image_)
+        image_->release(alive);
+    if (alive && gc_)
+        XFreeGC(x_->display, static_cast<GC>(gc_));
+    if (alive) {
         if (window_)
             XDestroyWindow(x_->display, window_);
         if (colormap_)
@@ -261,15 +372,40 @@ void X11Window::pollEvents()
             closeRequested_ = true;
         } else if (event.type == DestroyNotify) {
             closeRequested_ = true;
+        } else if (event.type == KeyPress) {
+            char typed[8] = {};
+            KeySym symbol = 0;
+            const int length = XLookupString(&event.xkey, typed, int(sizeof typed), &symbol, nullptr);
+            typed_.append(typed, size_t(std::max(0, length)));
         }
     }
     if (x_->lost)
         throw RuntimeError(std::string("the X display closed under the preview window"));
 }
 
+std::optional<WindowTarget::CpuPixels> X11Window::cpuPixels()
+{
+    if (!sharedMemory_)
+        return std::nullopt;
+    if (!x_->alive())
+        throw RuntimeError("the X display closed under the preview window");
+    if (image_->image->width != width_ || image_->image->height != height_) {
+        // Resized: a segment of the new size.
+        image_->release(x_->alive());
+        std::string why;
+        image_ = makeSharedImage(x_->display, static_cast<Visual*>(visual_), visualDepth_, width_, height_, why);
+        if (!image_)
+            throw RuntimeError("cannot resize the preview window's shared image: " + why);
+    }
+    return CpuPixels{reinterpret_cast<uint8_t*>(image_->image->data), image_->image->bytes_per_line};
+}
+
 void X11Window::showSwapped()
 {
     ++framesShown_;
+    if (sharedMemory_ && x_->alive())
+        XShmPutImage(x_->display, window_, static_cast<GC>(gc_), image_->image, 0, 0, 0, 0,
+                     unsigned(image_->image->width), unsigned(image_->image->height), False);
     // One round trip a frame: the X server has drawn this frame before the next is rendered,
     // so a slow server slows the loop down instead of queueing frames without bound.
     if (x_->alive())

@@ -43,19 +43,62 @@ protected:
         ASSERT_TRUE(viewer_->connected());
     }
 
+    void presentedFramesArriveEqualToTheHeadlessFrame(X11Presentation presentation);
+    void aResizedWindowShowsTheFrameWithItsAspectKept(X11Presentation presentation);
+
     test::XvfbServer server_;
     std::unique_ptr<test::X11Viewer> viewer_; // the test's own connection: what anyone sees on the server
 };
 
 TEST_F(WindowTest, PresentedFramesArriveEqualToTheHeadlessFrame)
 {
+    // Through EGL's window surface and through MIT-SHM (the default on llvmpipe) alike.
+    for (const X11Presentation presentation : {X11Presentation::EglSwap, X11Presentation::SharedMemory}) {
+        SCOPED_TRACE(presentation == X11Presentation::EglSwap ? "EGL swap" : "MIT-SHM");
+        presentedFramesArriveEqualToTheHeadlessFrame(presentation);
+    }
+}
+
+TEST_F(WindowTest, OnASoftwareRasteriserFramesGoThroughSharedMemory)
+{
+    std::string why;
+    auto window = X11Window::open(server_.display(), "lumar test", 64, 48, why);
+    ASSERT_NE(window, nullptr) << why;
+    const std::string& driver = window->eglDisplay()->driverName();
+    if (driver != "swrast" && driver != "kms_swrast")
+        GTEST_SKIP() << "EGL driver " << driver << " is not a software rasteriser";
+    EXPECT_TRUE(window->presentsFromMemory());
+    EXPECT_EQ(window->surface(), EGL_NO_SURFACE);
+}
+
+TEST_F(WindowTest, TypedKeysReachTheWindow)
+{
+    std::string why;
+    auto window = X11Window::open(server_.display(), "lumar test", 64, 48, why);
+    ASSERT_NE(window, nullptr) << why;
+    viewer_->typeKey(window->windowId(), 'o');
+    std::string typed;
+    for (int i = 0; i < 200 && typed.empty(); ++i) {
+        window->pollEvents();
+        typed += window->takeTypedKeys();
+        usleep(5000);
+    }
+    EXPECT_EQ(typed, "o");
+    EXPECT_EQ(window->takeTypedKeys(), "");
+}
+
+void WindowTest::presentedFramesArriveEqualToTheHeadlessFrame(X11Presentation presentation)
+{
     const int width = 320, height = 180;
     std::string why;
-    auto window = X11Window::open(server_.display(), "lumar test", width, height, why);
+    auto window = X11Window::open(server_.display(), "lumar test", width, height, why, presentation);
     ASSERT_NE(window, nullptr) << why;
     RenderOptions options;
     options.display = window->eglDisplay();
-    LUMAR_RENDERER_OR_SKIP(renderer, width, height, options);
+    auto rendererOrReason = test::tryCreateRenderer(width, height, options);
+    if (!rendererOrReason.renderer)
+        GTEST_SKIP() << "no GLES 3 renderer: " << rendererOrReason.reason;
+    SceneRenderer& renderer = *rendererOrReason.renderer;
     const Image8 frame = testFrame(width, height);
     const CameraIntrinsics k = test::makeIntrinsics(width, height, 300, 300, width / 2.0, height / 2.0);
 
@@ -76,13 +119,24 @@ TEST_F(WindowTest, PresentedFramesArriveEqualToTheHeadlessFrame)
 
 TEST_F(WindowTest, AResizedWindowShowsTheFrameWithItsAspectKept)
 {
+    for (const X11Presentation presentation : {X11Presentation::EglSwap, X11Presentation::SharedMemory}) {
+        SCOPED_TRACE(presentation == X11Presentation::EglSwap ? "EGL swap" : "MIT-SHM");
+        aResizedWindowShowsTheFrameWithItsAspectKept(presentation);
+    }
+}
+
+void WindowTest::aResizedWindowShowsTheFrameWithItsAspectKept(X11Presentation presentation)
+{
     const int width = 160, height = 120;
     std::string why;
-    auto window = X11Window::open(server_.display(), "lumar test", width, height, why);
+    auto window = X11Window::open(server_.display(), "lumar test", width, height, why, presentation);
     ASSERT_NE(window, nullptr) << why;
     RenderOptions options;
     options.display = window->eglDisplay();
-    LUMAR_RENDERER_OR_SKIP(renderer, width, height, options);
+    auto rendererOrReason = test::tryCreateRenderer(width, height, options);
+    if (!rendererOrReason.renderer)
+        GTEST_SKIP() << "no GLES 3 renderer: " << rendererOrReason.reason;
+    SceneRenderer& renderer = *rendererOrReason.renderer;
     const CameraIntrinsics k = test::makeIntrinsics(width, height, 150, 150, width / 2.0, height / 2.0);
 
     viewer_->resize(window->windowId(), 480, 120);

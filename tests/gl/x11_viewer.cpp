@@ -16,6 +16,13 @@ int shiftOf(unsigned long mask)
     return mask ? __builtin_ctzl(mask) : 0;
 }
 
+// Xlib's default handler ends the process on any protocol error; a grab of a window not
+// viewable yet (found by its name between its creation and its mapping) is one.
+extern "C" int ignoreError(Display*, XErrorEvent*)
+{
+    return 0;
+}
+
 } // namespace
 
 X11Viewer::X11Viewer(const std::string& displayName) : display_(XOpenDisplay(displayName.c_str())) {}
@@ -56,8 +63,12 @@ unsigned long X11Viewer::findWindow(const std::string& name) const
 std::vector<uint8_t> X11Viewer::grab(unsigned long window, int width, int height) const
 {
     std::vector<uint8_t> rgb;
-    XImage* image =
-        XGetImage(asDisplay(display_), Window(window), 0, 0, unsigned(width), unsigned(height), AllPlanes, ZPixmap);
+    Display* display = asDisplay(display_);
+    XSync(display, False);
+    const auto previous = XSetErrorHandler(ignoreError);
+    XImage* image = XGetImage(display, Window(window), 0, 0, unsigned(width), unsigned(height), AllPlanes, ZPixmap);
+    XSync(display, False);
+    XSetErrorHandler(previous);
     if (!image)
         return rgb;
     rgb.reserve(size_t(width) * size_t(height) * 3);
@@ -90,6 +101,21 @@ void X11Viewer::resize(unsigned long window, int width, int height) const
 {
     XResizeWindow(asDisplay(display_), Window(window), unsigned(width), unsigned(height));
     XSync(asDisplay(display_), False);
+}
+
+void X11Viewer::typeKey(unsigned long window, char c) const
+{
+    Display* display = asDisplay(display_);
+    XEvent event{};
+    event.xkey.type = KeyPress;
+    event.xkey.display = display;
+    event.xkey.window = Window(window);
+    event.xkey.root = DefaultRootWindow(display);
+    event.xkey.time = CurrentTime;
+    event.xkey.same_screen = True;
+    event.xkey.keycode = XKeysymToKeycode(display, KeySym(static_cast<unsigned char>(c)));
+    XSendEvent(display, Window(window), True, KeyPressMask, &event);
+    XSync(display, False);
 }
 
 } // namespace lumar::test

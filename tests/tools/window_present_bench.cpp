@@ -1,12 +1,15 @@
-// The preview window's cost per frame: SceneRenderer::present() into an X11 window (blit,
-// eglSwapBuffers, one X round trip) against readback() (what the headless sink pays), at
-// 1280x720 on a private Xvfb. Interleaved rounds, medians. Not a test.
+// The preview window's cost per frame: SceneRenderer::present() into an X11 window through
+// EGL's window surface (blit, eglSwapBuffers, one X round trip) and through MIT-SHM (read back
+// into the shared image, XShmPutImage, one round trip), against readback() (what the headless
+// sink pays), at 1280x720 on a private Xvfb. Interleaved rounds, medians. Not a test.
 //
 //   build/tests/tools/window_present_bench [rounds] [frames]   (defaults 5 rounds of 60 frames)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "gl/xvfb_server.h"
@@ -23,6 +26,32 @@ double median(std::vector<double> v)
 
 } // namespace
 
+namespace {
+
+struct Setup {
+    std::unique_ptr<lumar::X11Window> window;
+    std::unique_ptr<lumar::SceneRenderer> renderer;
+};
+
+Setup open(const std::string& display, lumar::X11Presentation presentation, const lumar::Image8& background,
+           const lumar::CameraIntrinsics& k)
+{
+    Setup s;
+    std::string why;
+    s.window = lumar::X11Window::open(display, "bench", k.width, k.height, why, presentation);
+    if (!s.window) {
+        std::fprintf(stderr, "no window: %s\n", why.c_str());
+        std::exit(1);
+    }
+    lumar::RenderOptions options;
+    options.display = s.window->eglDisplay();
+    s.renderer = lumar::SceneRenderer::create(k.width, k.height, options);
+    s.renderer->render(background, k, {});
+    return s;
+}
+
+} // namespace
+
 int main(int argc, char** argv)
 {
     const int rounds = argc > 1 ? std::atoi(argv[1]) : 5;
@@ -33,15 +62,6 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "Xvfb did not start\n");
         return 1;
     }
-    std::string why;
-    auto window = lumar::X11Window::open(server.display(), "bench", width, height, why);
-    if (!window) {
-        std::fprintf(stderr, "no window: %s\n", why.c_str());
-        return 1;
-    }
-    lumar::RenderOptions options;
-    options.display = window->eglDisplay();
-    auto renderer = lumar::SceneRenderer::create(width, height, options);
     lumar::Image8 background;
     background.width = width;
     background.height = height;
@@ -55,26 +75,56 @@ int main(int argc, char** argv)
     k.fx = k.fy = 1000;
     k.cx = width / 2.0;
     k.cy = height / 2.0;
-    renderer->render(background, k, {});
+    Setup swap = open(server.display(), lumar::X11Presentation::EglSwap, background, k);
+    Setup shm = open(server.display(), lumar::X11Presentation::SharedMemory, background, k);
+    if (!shm.window->presentsFromMemory())
+        std::fprintf(stderr, "MIT-SHM refused: the second column is the EGL swap too\n");
+
+    // The setup view of four tags (outline, axes, label each) and a status line, drawn before
+    // the readback in the fourth column: its cost is that column less the third.
+    lumar::OverlayScene overlay;
+    for (int t = 0; t < 4; ++t) {
+        const glm::dvec2 c(200.0 + 250.0 * t, 360.0);
+        const glm::dvec2 corners[4] = {c + glm::dvec2(-80, -70), c + glm::dvec2(80, -60), c + glm::dvec2(70, 80),
+                                       c + glm::dvec2(-75, 70)};
+        for (int i = 0; i < 4; ++i)
+            overlay.lines.push_back({corners[i], corners[(i + 1) % 4], {40, 255, 80, 255}, 2.0f});
+        for (int a = 0; a < 3; ++a)
+            overlay.lines.push_back({c, c + glm::dvec2(40.0 * (a == 0), -40.0 * (a == 1)), {255, 40, 40, 255}, 2.0f});
+        overlay.texts.push_back({c + glm::dvec2(-40, 90), "id 3  0.25 px", {40, 255, 80, 255}, {0, 0, 0, 170}, 1, 2});
+    }
+    overlay.texts.push_back({{6, 6},
+                             "frame 1234  markers 4  objects 2  30.0 fps  latency p50 45 ms  camera ok",
+                             {255, 255, 255, 255},
+                             {0, 0, 0, 170},
+                             1,
+                             3});
 
     using Clock = std::chrono::steady_clock;
-    std::vector<double> presentMs, readbackMs;
+    std::vector<double> swapMs, shmMs, readbackMs, overlayMs;
     lumar::Image8 out;
     for (int round = 0; round < rounds; ++round) {
-        for (int pass = 0; pass < 2; ++pass) {
+        for (int pass = 0; pass < 4; ++pass) {
             const auto start = Clock::now();
             for (int i = 0; i < frames; ++i) {
                 if (pass == 0)
-                    renderer->present(*window);
-                else
-                    renderer->readback(out);
+                    swap.renderer->present(*swap.window);
+                else if (pass == 1)
+                    shm.renderer->present(*shm.window);
+                else if (pass == 2)
+                    shm.renderer->readback(out);
+                else {
+                    shm.renderer->drawOverlay(overlay);
+                    shm.renderer->readback(out);
+                }
             }
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / frames;
-            (pass == 0 ? presentMs : readbackMs).push_back(ms);
+            (pass == 0 ? swapMs : pass == 1 ? shmMs : pass == 2 ? readbackMs : overlayMs).push_back(ms);
         }
     }
-    std::printf("%dx%d, %d rounds of %d frames, medians: present %.2f ms/frame, readback %.2f ms/frame (ratio %.2f)\n",
-                width, height, rounds, frames, median(presentMs), median(readbackMs),
-                median(presentMs) / median(readbackMs));
+    std::printf("%dx%d, %d rounds of %d frames, medians per frame: EGL swap %.2f ms, MIT-SHM %.2f ms, headless "
+                "readback %.2f ms (swap/shm %.1fx); overlay + readback %.2f ms\n",
+                width, height, rounds, frames, median(swapMs), median(shmMs), median(readbackMs),
+                median(swapMs) / median(shmMs), median(overlayMs));
     return 0;
 }
