@@ -11,6 +11,7 @@
 
 #include "bench/tracking_bench.h"
 #include "bench/tracking_overhead.h"
+#include "bench/tracking_sequences.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -65,6 +66,15 @@ int main(int argc, char** argv)
     app.add_option("--overhead-rounds", overheadOptions.rounds, "with --overhead: rounds")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    bool sequences = false;
+    int rounds = 1;
+    app.add_flag("--sequences", sequences,
+                 "instead: temporal sequences (a tag lost for one frame in low light, occlusions ending at\n"
+                 "any phase, a tag leaving and re-entering, a fast pan with blur, a 4-tag board): recall,\n"
+                 "re-acquisition delay, jitter, lag, ms per frame (bench/tracking_sequences.h)");
+    app.add_option("--rounds", rounds, "with --sequences: interleaved rounds (ms: median)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
     app.add_option("--log-level", logLevel, "e.g. info, or tracking:debug,*:warn")->capture_default_str();
     try {
         app.parse(argc, argv);
@@ -86,6 +96,17 @@ int main(int argc, char** argv)
             overheadOptions.height = options.height;
             overheadOptions.seed = options.seed;
             std::fputs(lumar::runTrackingOverhead(overheadOptions).c_str(), stdout);
+            return lumar::kExitOk;
+        }
+        if (sequences) {
+            lumar::TrackingSequencesOptions sequenceOptions;
+            sequenceOptions.width = options.width;
+            sequenceOptions.height = options.height;
+            sequenceOptions.seed = options.seed;
+            sequenceOptions.rounds = rounds;
+            const lumar::TrackingSequencesReport report = lumar::runTrackingSequences(sequenceOptions);
+            std::fputs((json ? lumar::trackingSequencesJson(report) : lumar::trackingSequencesMarkdown(report)).c_str(),
+                       stdout);
             return lumar::kExitOk;
         }
         const lumar::TrackingBenchReport report = lumar::runTrackingBench(options);

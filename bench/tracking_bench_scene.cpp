@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <apriltag/apriltag.h>
 #include <opencv2/core.hpp>
@@ -140,7 +141,7 @@ struct TrackingBenchScene::Impl {
     CameraIntrinsics k;
     uint64_t seed = 0;
     cv::Mat background;
-    std::vector<std::vector<cv::Mat>> tagTextures; // per condition, per tag
+    mutable std::map<int, cv::Mat> tagTextures; // by id, made when first drawn
 
     // The tag's printed image from the family's own tables, drawn as apriltag_to_image()
     // draws it (that function's result cannot be freed: Debian's library does not export
@@ -203,8 +204,16 @@ struct TrackingBenchScene::Impl {
 
     // Renders the tags (with the background around them) at kSupersampling and pastes the
     // box-filtered result over `image`, one bounding rectangle at a time.
-    void renderTags(const BenchCondition& c, const std::vector<cv::Mat>& textures, const cv::Matx33d& plane,
-                    const Pose& cameraFromWorld, cv::Mat& image) const
+    const cv::Mat& textureOf(int id) const
+    {
+        auto it = tagTextures.find(id);
+        if (it == tagTextures.end())
+            it = tagTextures.emplace(id, tagTexture(id)).first;
+        return it->second;
+    }
+
+    void renderTags(const BenchCondition& c, const cv::Matx33d& plane, const Pose& cameraFromWorld,
+                    cv::Mat& image) const
     {
         for (const BenchTag& tag : c.tags) {
             const double half = 0.5 * tag.size * kTagCells / 8.0;
@@ -235,8 +244,9 @@ struct TrackingBenchScene::Impl {
                                 cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(kFloorGrey));
             // Every tag, not just this one: a neighbour may reach into this rectangle.
             for (size_t i = 0; i < c.tags.size(); ++i)
-                cv::warpPerspective(textures[i], highRes, cv::Mat(toHighRes * plane * planeFromTagTexel(c.tags[i])),
-                                    size, cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+                cv::warpPerspective(textureOf(c.tags[i].id), highRes,
+                                    cv::Mat(toHighRes * plane * planeFromTagTexel(c.tags[i])), size, cv::INTER_LINEAR,
+                                    cv::BORDER_TRANSPARENT);
             cv::Mat patch;
             cv::resize(highRes, patch, cv::Size(x1 - x0, y1 - y0), 0, 0, cv::INTER_AREA);
             patch.copyTo(image(cv::Rect(x0, y0, x1 - x0, y1 - y0)));
@@ -254,6 +264,22 @@ struct TrackingBenchScene::Impl {
                 if (up.x * (x - k.cx) / k.fx + base >= 0.0)
                     row[x] = uint8_t(kSkyGrey);
         }
+    }
+
+    // A flat grey patch over the whole tag and its white ring (a hand, a shadow).
+    void cover(const BenchTag& tag, const Pose& cameraFromWorld, cv::Mat& image) const
+    {
+        const double outer = 0.5 * tag.size * kTagCells / 8.0 + 0.01;
+        std::vector<cv::Point> polygon;
+        for (const glm::dvec2 corner : {glm::dvec2(-outer, -outer), glm::dvec2(outer, -outer), glm::dvec2(outer, outer),
+                                        glm::dvec2(-outer, outer)}) {
+            const glm::dvec3 p = cameraFromWorld.apply(glm::dvec3(tag.position + corner, 0.0));
+            if (p.z <= 0.05)
+                return;
+            const glm::dvec2 px = k.project(p);
+            polygon.emplace_back(int(std::lround(px.x * 16.0)), int(std::lround(px.y * 16.0)));
+        }
+        cv::fillConvexPoly(image, polygon, cv::Scalar(120), cv::LINE_AA, 4);
     }
 
     // A flat grey patch over part of the first tag, reaching in from one edge past its border.
@@ -289,11 +315,6 @@ TrackingBenchScene::TrackingBenchScene(int width, int height, uint64_t seed) : i
     impl_->k = defaultIntrinsics(width, height);
     impl_->seed = seed;
     impl_->background = makeBackground(seed);
-    for (const BenchCondition& c : conditions()) {
-        auto& textures = impl_->tagTextures.emplace_back();
-        for (const BenchTag& tag : c.tags)
-            textures.push_back(Impl::tagTexture(tag.id));
-    }
 }
 
 TrackingBenchScene::~TrackingBenchScene() = default;
@@ -311,20 +332,29 @@ const CameraIntrinsics& TrackingBenchScene::intrinsics() const
 
 void TrackingBenchScene::render(size_t condition, int frame, int frames, BenchFrame& out) const
 {
-    const Impl& s = *impl_;
     const BenchCondition& c = conditions().at(condition);
-    const Pose cameraFromWorld = s.cameraFromWorld(c, condition, frame, frames);
+    const Pose cameraFromWorld = impl_->cameraFromWorld(c, condition, frame, frames);
+    renderView(c, cameraFromWorld, mix(impl_->seed ^ mix(condition * 100003ULL + uint64_t(frame))), out);
+}
+
+void TrackingBenchScene::renderView(const BenchCondition& c, const Pose& cameraFromWorld, uint64_t noiseSeed,
+                                    BenchFrame& out) const
+{
+    const Impl& s = *impl_;
     const cv::Matx33d plane = planeToImage(s.k, cameraFromWorld);
 
     cv::Mat image;
     cv::warpPerspective(s.background, image, cv::Mat(plane * planeFromBackgroundTexel()),
                         cv::Size(s.k.width, s.k.height), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(kFloorGrey));
-    s.renderTags(c, s.tagTextures[condition], plane, cameraFromWorld, image);
+    s.renderTags(c, plane, cameraFromWorld, image);
     s.paintSky(cameraFromWorld, image);
 
-    cv::RNG rng(mix(s.seed ^ mix(condition * 100003ULL + uint64_t(frame))));
+    cv::RNG rng(noiseSeed);
     if (c.occlude)
         s.occlude(c.tags.front(), cameraFromWorld, rng, image);
+    for (const BenchTag& tag : c.tags)
+        if (std::find(c.covered.begin(), c.covered.end(), tag.id) != c.covered.end())
+            s.cover(tag, cameraFromWorld, image);
 
     cv::Mat light;
     image.convertTo(light, CV_32F);
@@ -332,8 +362,9 @@ void TrackingBenchScene::render(size_t condition, int frame, int frames, BenchFr
     const double pixelScale = s.k.width / 1280.0;
     if (c.motionBlurPx > 0.0) {
         // A centred linear kernel: the blurred edge is centred on the frame's pose.
-        const double length = std::max(1.0, c.motionBlurPx * pixelScale * rng.uniform(0.4, 1.0));
-        const double angle = rng.uniform(0.0, kPi);
+        const bool fixed = c.motionBlurAngleDeg >= 0.0;
+        const double length = std::max(1.0, c.motionBlurPx * pixelScale * (fixed ? 1.0 : rng.uniform(0.4, 1.0)));
+        const double angle = fixed ? c.motionBlurAngleDeg * kDeg : rng.uniform(0.0, kPi);
         const int side = int(std::ceil(length)) | 1;
         cv::Mat kernel = cv::Mat::zeros(side, side, CV_32F);
         const double cx = 0.5 * (side - 1), dx = 0.5 * (length - 1) * std::cos(angle),
@@ -351,7 +382,8 @@ void TrackingBenchScene::render(size_t condition, int frame, int frames, BenchFr
     if (c.lowLight) {
         // A dark exposure (a fifth of the light) through a display gamma: white ends near 40.
         light *= 1.0 / 255.0;
-        cv::pow(light * rng.uniform(0.15, 0.25), 1.2, light);
+        const double exposure = rng.uniform(0.15, 0.25); // drawn in any case: the same noise follows
+        cv::pow(light * (c.exposure > 0.0 ? c.exposure : exposure), 1.2, light);
         light *= 255.0;
         noise = 4.0;
     }
@@ -374,7 +406,7 @@ void TrackingBenchScene::render(size_t condition, int frame, int frames, BenchFr
         truth.id = tag.id;
         truth.size = tag.size;
         truth.cameraFromMarker = cameraFromWorld * Pose{glm::dmat3(1.0), glm::dvec3(tag.position, 0.0)};
-        truth.visible = eyeInWorld.z > 0.0;
+        truth.visible = eyeInWorld.z > 0.0 && std::find(c.covered.begin(), c.covered.end(), tag.id) == c.covered.end();
         const auto corners = tagCornersInMarkerFrame(tag.size);
         for (size_t i = 0; i < 4; ++i) {
             const glm::dvec3 p = truth.cameraFromMarker.apply(corners[i]);

@@ -41,6 +41,10 @@ struct BenchCondition {
     bool lowLight = false;                       // dark exposure, gamma, stronger noise
     bool occlude = false;                        // a grey patch over part of the first tag
     bool lookAway = false;                       // aim far from every tag: no tag in view
+    // For renderView (the temporal sequences, bench/tracking_sequences.h):
+    double motionBlurAngleDeg = -1.0; // >= 0: a blur of exactly motionBlurPx along this image angle
+    double exposure = 0.0;            // with lowLight: the light's scale (0: random in [0.15, 0.25])
+    std::vector<int> covered{};       // ids hidden wholly under a grey patch (not visible)
 };
 
 struct BenchTagTruth {
@@ -71,6 +75,11 @@ public:
     // arguments and seed give the same image). The camera sweeps the condition's ranges once
     // over the `frames` frames, so consecutive frames move smoothly.
     void render(size_t condition, int frame, int frames, BenchFrame& out) const;
+
+    // Renders any scene: `condition`'s tags, seen from `cameraFromWorld`, degraded as it says
+    // (its occlude and lookAway are not used), the noise and random blur drawn from `noiseSeed`.
+    void renderView(const BenchCondition& condition, const Pose& cameraFromWorld, uint64_t noiseSeed,
+                    BenchFrame& out) const;
 
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
 

@@ -1,6 +1,8 @@
 // The per-frame trace of `lumar render --trace FILE`: one JSON object per line with the
-// frame's sequence, timestamp, detections (corners, pose) and stage times, so tests and
-// tools can compare what lumar saw with ground truth without parsing logs.
+// frame's sequence, timestamps, raw detections (corners, pose) and map poses, the filtered
+// poses the objects were placed with (and the objects' transforms as the renderer received
+// them) and stage times, so tests and tools can compare what lumar saw and drew with ground
+// truth without parsing logs.
 #pragma once
 
 #include <cstdio>

@@ -29,9 +29,6 @@
 namespace lumar {
 namespace {
 
-// A marker missed for a few frames (motion blur, a hand passing) keeps its last pose so
-// objects do not flicker; after that they disappear rather than float in a stale place.
-constexpr uint64_t kMarkerHoldFrames = 5;
 // The largest material texture side on a software rasteriser, which keeps every texture with
 // its mips in process memory: CesiumMilkTruck's 2048² base colour alone holds 22 MB as RGBA8
 // with mips, 5.6 MB at 1024², while at 1280x720 the truck rarely covers 1024 pixels.
@@ -60,16 +57,6 @@ TagSizes tagSizesFor(const Config& config)
     for (const MarkerConfig& m : config.markers)
         sizes.byId[m.id] = m.size;
     return sizes;
-}
-
-PoseFilterSettings filterSettingsFor(const TrackingConfig& tracking)
-{
-    PoseFilterSettings settings;
-    settings.minCutoffHz = tracking.filterMinCutoffHz;
-    settings.beta = tracking.filterBeta;
-    settings.rotationMinCutoffHz = tracking.filterRotationMinCutoffHz;
-    settings.rotationBeta = tracking.filterRotationBeta;
-    return settings;
 }
 
 std::unique_ptr<TagTracker> makeTracker(const Config& config, const CameraIntrinsics& intrinsics)
@@ -283,7 +270,7 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
     struct ReleaseWhenLoaded {
         ~ReleaseWhenLoaded() { releaseLoadingMemory(); }
     } releaseWhenLoaded;
-    filterSettings_ = filterSettingsFor(config_.tracking);
+    tracked_ = TrackedPoses(config_.tracking);
     std::unique_ptr<CaptureSource> source = openCaptureSource(withConversionDecided(config_.camera, config_));
     // Frames served from memory take a copy (about 1 ms at 720p): not worth a thread, and
     // served just when asked for they carry no wait in a hand-over slot into the latency.
@@ -368,7 +355,7 @@ void Pipeline::placeScene(const std::vector<GltfModel>& models)
         placed.marker = object.marker;
         for (size_t m = 0; m < config_.maps.size(); ++m)
             if (!object.map.empty() && config_.maps[m].name == object.map)
-                placed.marker = mapKey(int(m));
+                placed.marker = TrackedPoses::mapKey(int(m));
         placed.markerFromModel = markerFromModel(object, models[i].boundsMin, models[i].boundsMax);
         objects_.push_back(placed);
         LUMAR_LOG(App, Info) << "object '" << object.name << "': " << object.model.string() << " ("
@@ -453,7 +440,7 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
         worker_.reset();
         tracker_ = std::move(prepared.tracker);
         // Poses filtered with other settings, or maps under keys that now name other maps.
-        markers_.clear();
+        tracked_ = TrackedPoses(prepared.config.tracking);
         latest_ = {};
         if (background)
             worker_ = std::make_unique<DetectionWorker>(*tracker_);
@@ -468,7 +455,6 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
         overlayOn_ = prepared.config.output.overlay;
     config_ = std::move(prepared.config);
     intrinsics_ = prepared.intrinsics;
-    filterSettings_ = filterSettingsFor(config_.tracking);
     if (prepared.environment) {
         renderer_->setEnvironment(*prepared.environment, float(config_.environment.intensity));
         environmentWritten_ = prepared.environmentWritten;
@@ -491,34 +477,6 @@ ReloadSummary Pipeline::applyReload(PreparedReload prepared)
 
 Pipeline::~Pipeline() = default;
 
-void Pipeline::updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs)
-{
-    for (const TagDetection& d : detections) {
-        if (!d.hasPose)
-            continue;
-        auto [it, inserted] = markers_.try_emplace(d.id);
-        MarkerState& marker = it->second;
-        if (inserted)
-            marker.filter = OneEuroPoseFilter(filterSettings_);
-        marker.cameraFromMarker =
-            config_.tracking.filter ? marker.filter.update(d.cameraFromMarker, timestampNs) : d.cameraFromMarker;
-        marker.lastSeen = sequence;
-    }
-}
-
-void Pipeline::updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs)
-{
-    for (const MapDetection& map : maps) {
-        auto [it, inserted] = markers_.try_emplace(mapKey(map.index));
-        MarkerState& state = it->second;
-        if (inserted)
-            state.filter = OneEuroPoseFilter(filterSettings_);
-        state.cameraFromMarker =
-            config_.tracking.filter ? state.filter.update(map.cameraFromMap, timestampNs) : map.cameraFromMap;
-        state.lastSeen = sequence;
-    }
-}
-
 bool Pipeline::step(FrameReport& report)
 {
     auto start = std::chrono::steady_clock::now();
@@ -526,6 +484,7 @@ bool Pipeline::step(FrameReport& report)
         return false;
     report.sequence = frame_.sequence;
     report.timestampNs = frame_.timestampNs;
+    report.capturedNs = frame_.capturedNs;
     report.times.captureMs = millisecondsSince(start);
 
     start = std::chrono::steady_clock::now();
@@ -533,51 +492,59 @@ bool Pipeline::step(FrameReport& report)
     if (worker_) {
         // Never wait: hand the frame over and use the newest finished detection.
         worker_->submit(frame_.luma, frame_.sequence, frame_.timestampNs);
-        if (worker_->take(latest_)) {
-            updateMarkers(latest_.detections, latest_.sequence, latest_.timestampNs);
-            updateMaps(latest_.maps, latest_.sequence, latest_.timestampNs);
-        }
+        if (worker_->take(latest_))
+            tracked_.update(latest_.detections, latest_.maps, latest_.sequence, latest_.timestampNs);
         report.detections = latest_.detections;
         report.maps = latest_.maps;
+        report.detectedSequence = latest_.sequence;
         report.times.detectMs = latest_.detectMs; // on the worker, not in this loop
         // The frame shows up about one render + readback after its capture.
         poseTimeNs += int64_t(displayLatencyMs_ * 1e6);
     } else {
         report.detections = tracker_->detect(frame_.luma);
-        updateMarkers(report.detections, frame_.sequence, frame_.timestampNs);
         report.maps = tracker_->detectMaps(report.detections);
-        updateMaps(report.maps, frame_.sequence, frame_.timestampNs);
+        tracked_.update(report.detections, report.maps, frame_.sequence, frame_.timestampNs);
+        report.detectedSequence = frame_.sequence;
         report.times.detectMs = millisecondsSince(start);
     }
 
     start = std::chrono::steady_clock::now();
+    // Every held marker's and map's pose for this frame, computed once: the objects are
+    // placed with exactly these, and the report carries them.
+    report.poseTimeNs = poseTimeNs;
+    report.poses = tracked_.all(frame_.sequence, poseTimeNs);
+    report.mapNames.clear();
+    for (const MapConfig& map : config_.maps)
+        report.mapNames.push_back(map.name);
+    const auto poseOf = [&report](int key) -> const Pose* {
+        for (const TrackedPoses::Used& used : report.poses)
+            if (used.key == key)
+                return &used.cameraFromMarker;
+        return nullptr;
+    };
     drawItems_.clear();
-    const MarkerState* environmentAnchor = nullptr;
+    report.objects.clear();
+    const Pose* environmentAnchor = nullptr;
     for (size_t i = 0; i < objects_.size(); ++i) {
         const PlacedObject& object = objects_[i];
-        const auto it = markers_.find(object.marker);
-        if (it == markers_.end() || frame_.sequence - it->second.lastSeen > kMarkerHoldFrames)
+        const Pose* pose = poseOf(object.marker);
+        if (!pose)
             continue;
         // The configured object's index names its environment map from frame to frame.
-        drawItems_.push_back({object.model, poseAt(it->second, poseTimeNs).matrix() * object.markerFromModel, int(i)});
+        drawItems_.push_back({object.model, pose->matrix() * object.markerFromModel, int(i)});
+        report.objects.push_back({int(i), object.marker, drawItems_.back().cameraFromModel});
         if (!environmentAnchor)
-            environmentAnchor = &it->second;
+            environmentAnchor = pose;
     }
-    for (const PlacedObject& phantom : phantoms_) {
-        const auto it = markers_.find(phantom.marker);
-        if (it != markers_.end() && frame_.sequence - it->second.lastSeen <= kMarkerHoldFrames)
-            drawItems_.push_back(
-                {phantom.model, poseAt(it->second, poseTimeNs).matrix() * phantom.markerFromModel, -1, true});
-    }
+    for (const PlacedObject& phantom : phantoms_)
+        if (const Pose* pose = poseOf(phantom.marker))
+            drawItems_.push_back({phantom.model, pose->matrix() * phantom.markerFromModel, -1, true});
     const int objectsDrawn = int(drawItems_.size()); // objects and phantoms, not the grounds
-    for (const PlacedObject& ground : grounds_) {
-        const auto it = markers_.find(ground.marker);
-        if (it != markers_.end() && frame_.sequence - it->second.lastSeen <= kMarkerHoldFrames)
-            drawItems_.push_back(
-                {ground.model, poseAt(it->second, poseTimeNs).matrix() * ground.markerFromModel, -1, true, true});
-    }
+    for (const PlacedObject& ground : grounds_)
+        if (const Pose* pose = poseOf(ground.marker))
+            drawItems_.push_back({ground.model, pose->matrix() * ground.markerFromModel, -1, true, true});
     if (environmentAnchor) {
-        const glm::dmat3 markerFromCamera = glm::transpose(poseAt(*environmentAnchor, poseTimeNs).R);
+        const glm::dmat3 markerFromCamera = glm::transpose(environmentAnchor->R);
         renderer_->setEnvironmentRotation(environmentFromMarker() * markerFromCamera);
     }
     if (config_.environment.matchExposure) {
@@ -645,13 +612,6 @@ void Pipeline::drawSetupOverlay(const FrameReport& report)
                    (overlayStatus_.empty() ? "" : "  " + overlayStatus_);
     buildSetupOverlay(input, overlay_);
     renderer_->drawOverlay(overlay_);
-}
-
-Pose Pipeline::poseAt(const MarkerState& marker, int64_t timestampNs) const
-{
-    // The filter extrapolates with its velocities; unfiltered poses stay as measured.
-    return config_.tracking.filter && marker.filter.initialised() ? marker.filter.predict(timestampNs)
-                                                                  : marker.cameraFromMarker;
 }
 
 RenderStats Pipeline::renderStats() const

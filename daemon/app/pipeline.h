@@ -22,6 +22,7 @@
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
+#include "tracking/tracked_poses.h"
 
 namespace lumar {
 
@@ -37,11 +38,27 @@ struct ReloadSummary {
     size_t modelsBefore = 0, modelsAfter = 0;
 };
 
+// An object the renderer was given this frame: its transform exactly as handed over.
+struct DrawnObject {
+    int object = 0; // index in the config's [[objects]]
+    int marker = 0; // a tag id, or TrackedPoses::mapKey() of a [[maps]] entry
+    glm::dmat4 cameraFromModel{1.0};
+};
+
 struct FrameReport {
     uint64_t sequence = 0;
-    int64_t timestampNs = 0;
+    int64_t timestampNs = 0; // the frame's timestamp (Frame::timestampNs)
+    int64_t capturedNs = 0;  // when it was captured (Frame::capturedNs; 0: unknown)
     std::vector<TagDetection> detections;
     std::vector<MapDetection> maps;
+    // The frame the detections come from (this one, except with background detection).
+    uint64_t detectedSequence = 0;
+    // The filtered poses the objects were placed with, predicted to poseTimeNs, for every tag
+    // and map held (TrackedPoses::all), and the objects as the renderer received them.
+    int64_t poseTimeNs = 0;
+    std::vector<TrackedPoses::Used> poses;
+    std::vector<std::string> mapNames; // the config's [[maps]] names, by index
+    std::vector<DrawnObject> objects;
     int objectsDrawn = 0;
     StageTimes times;
     // Capture-to-present latency of the newest frame known to have been presented during
@@ -133,11 +150,6 @@ private:
         int marker = 0; // a tag id, or mapKey() of a [[maps]] entry
         glm::dmat4 markerFromModel{1.0};
     };
-    struct MarkerState {
-        Pose cameraFromMarker; // filtered when the config asks for it
-        uint64_t lastSeen = 0;
-        OneEuroPoseFilter filter;
-    };
 
     // Adds the configured objects (`models` in config_.objects' order) and phantoms to the
     // renderer, which holds no models yet.
@@ -147,13 +159,6 @@ private:
     void applyLight();
     // The receiver-only ground under each marker's objects ([shadows] ground; ground_plane.h).
     void placeGrounds(const std::vector<GltfModel>& models);
-    void updateMarkers(const std::vector<TagDetection>& detections, uint64_t sequence, int64_t timestampNs);
-    // The marker's pose at `timestampNs`: predicted by its filter (the latest pose when the
-    // time is that of its last update).
-    [[nodiscard]] Pose poseAt(const MarkerState& marker, int64_t timestampNs) const;
-    // Maps share markers_ (and its filtering) under keys no tag id can take.
-    static int mapKey(int mapIndex) { return -1 - mapIndex; }
-    void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
     void drawSetupOverlay(const FrameReport& report);
     // Returns the free pages loading left in malloc's heaps to the system.
     static void releaseLoadingMemory();
@@ -178,8 +183,7 @@ private:
     // The environment map's own light (not yet scaled by its intensity), computed where the
     // configuration needs it.
     std::optional<DominantLight> derivedLight_;
-    std::map<int, MarkerState> markers_;
-    PoseFilterSettings filterSettings_;
+    TrackedPoses tracked_; // the markers' and maps' filtered poses
     std::vector<DrawItem> drawItems_;
     // The camera image's brightness against its first frames' ([environment] match_exposure).
     ExposureMeter exposureMeter_;

@@ -43,6 +43,10 @@ struct DetectCommandOptions {
     double decimate = 1.0;
     std::string logLevel = "warn";
     std::vector<std::string> images; // at least one
+    // A lumar config: its [[markers]] sizes, [[maps]] and [tracking] filter settings.
+    std::optional<std::string> config;
+    bool sequence = false; // the images are consecutive frames of one video
+    double fps = 30.0;     // with sequence: their rate
 };
 
 struct BenchCommandOptions {

@@ -323,7 +323,12 @@ Detects AprilTags and prints, per image, one line:
 Corners are in the AprilTag library's order, in OpenCV's pixel convention (pixel centres at
 integer coordinates). R and t map the tag frame (x right, y up, z out of the tag, metres)
 into the camera frame. Without --calib an ideal camera with a 70 degree horizontal field of
-view is assumed.)");
+view is assumed.
+With --config, the file's [[markers]] sizes (by id; --tag-size for the others) and [[maps]]
+are used: each line then carries "maps", the boards found, with their poses. With --sequence
+the images are consecutive frames of one video (at --fps): the tracker follows the tags from
+frame to frame as `lumar run` does, and each line carries "frame", "timestamp_ns" and
+"filtered", the filtered poses per tag id and per map that objects would be drawn with.)");
     addDouble(*c, "--tag-size", o.tagSize, {1e-4, 100}, "M", "tag side in metres, black border to black border")
         ->required()
         ->default_str("");
@@ -331,6 +336,10 @@ view is assumed.)");
         ->type_name("FILE");
     c->add_option("--family", o.family, "tag family")->type_name("NAME")->capture_default_str();
     addDouble(*c, "--decimate", o.decimate, {1, 8}, "D", "quad_decimate; 1: full resolution, best for stills");
+    c->add_option("--config", o.config, "lumar config: [[markers]] sizes, [[maps]], [tracking] filter")
+        ->type_name("FILE");
+    c->add_flag("--sequence", o.sequence, "the images are consecutive video frames: follow and filter");
+    addDouble(*c, "--fps", o.fps, {1, 1000}, "FPS", "with --sequence: the frame rate");
     addLogLevel(*c, o.logLevel);
     c->add_option("IMAGE", o.images, "images to search (PNG, JPEG)")->required();
     return {c, [&o] { return detectCommand(o); }};

@@ -95,7 +95,7 @@ struct TrackingConfig {
     double quadSigma = 0.0;
     bool refineEdges = true;
     double decodeSharpening = 0.25;
-    int threads = 2;
+    int threads = 2;         // >= 2: windows on two detectors at once, see tracking/tag_tracker.cpp
     bool roi = true;         // search near the last detections first (full frame as fallback)
     int fullFrameEvery = 10; // with roi: a full-frame search at least this often (new tags)
     bool filter = true;      // One-Euro pose filtering (tracking/one_euro_filter.h)

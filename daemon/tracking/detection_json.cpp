@@ -37,12 +37,39 @@ void addPoseJson(Json& detection, const Pose& cameraFromMarker)
     detection["t"] = Json::array({number(t.x), number(t.y), number(t.z)});
 }
 
-std::string detectionsToJson(const std::string& file, const std::vector<TagDetection>& detections)
+Json mapDetectionJson(const MapDetection& map)
+{
+    Json json = {
+        {"map", map.name}, {"tags", map.tagIds}, {"error_px", jsonSignificant(map.reprojectionErrorPx, kPixelDigits)}};
+    addPoseJson(json, map.cameraFromMap);
+    return json;
+}
+
+Json trackedPoseJson(const TrackedPoses::Used& used, const std::vector<std::string>& mapNames)
+{
+    Json json = Json::object();
+    if (TrackedPoses::isMapKey(used.key)) {
+        const size_t index = size_t(TrackedPoses::mapIndex(used.key));
+        json["map"] = index < mapNames.size() ? mapNames[index] : std::to_string(index);
+    } else {
+        json["id"] = used.key;
+    }
+    json["last_seen"] = used.lastSeen;
+    addPoseJson(json, used.cameraFromMarker);
+    return json;
+}
+
+Json detectionsJson(const std::string& file, const std::vector<TagDetection>& detections)
 {
     Json list = Json::array();
     for (const TagDetection& d : detections)
         list.push_back(detectionJson(d));
-    return jsonLine({{"file", file}, {"detections", std::move(list)}});
+    return {{"file", file}, {"detections", std::move(list)}};
+}
+
+std::string detectionsToJson(const std::string& file, const std::vector<TagDetection>& detections)
+{
+    return jsonLine(detectionsJson(file, detections));
 }
 
 } // namespace lumar

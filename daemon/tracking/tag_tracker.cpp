@@ -10,6 +10,7 @@
 #include "core/log.h"
 #include "tracking/apriltag_family.h"
 #include "tracking/followed_tags.h"
+#include "tracking/helper_thread.h"
 #include "tracking/tag_map.h"
 
 namespace lumar {
@@ -80,12 +81,39 @@ bool libraryWritesInput(const TrackingConfig& config)
     return kernel > 1;
 }
 
+DetectorPtr createDetector(const TrackingConfig& config, apriltag_family_t& family, int bits, int threads)
+{
+    DetectorPtr detector(apriltag_detector_create());
+    if (!detector)
+        throw RuntimeError("cannot create the AprilTag detector");
+    apriltag_detector_t& td = *detector;
+    td.quad_decimate = float(config.quadDecimate);
+    td.quad_sigma = float(config.quadSigma);
+    td.refine_edges = config.refineEdges;
+    td.decode_sharpening = config.decodeSharpening;
+    td.nthreads = threads;
+    apriltag_detector_add_family_bits(&td, &family, bits);
+    return detector;
+}
+
 } // namespace
 
 struct TagTracker::Impl {
-    // Declared before the detector so that it outlives it: the detector only borrows it.
+    // Declared before the detectors so that it outlives them: they only borrow it. Both
+    // detectors share it: the library builds its decoding table into the family once (at the
+    // first apriltag_detector_add_family_bits, before any detection) and only reads it while
+    // detecting; the first detector destroyed frees it, the second then finds nothing to free.
     AprilTagFamilyPtr family;
     DetectorPtr detector;
+    // With threads >= 2, a second detector and a helper thread search half of the followed
+    // tags' windows in parallel (DESIGN.md §5). Each detector runs its library calls with
+    // nthreads 1 on its own thread, so the library's worker pool, which crashes before 3.4.3,
+    // is never used by them; two detector instances share no mutable state (libapriltag
+    // 3.3.0's sources: all state lives in apriltag_detector_t and per-call allocations, the
+    // family's decoding table is read only, and the only globals are the families' constant
+    // code tables and random() in debug output).
+    DetectorPtr second;
+    std::unique_ptr<HelperThread> helper;
     CameraIntrinsics intrinsics;
     TagSizes sizes;
     std::vector<TagMap> maps;
@@ -121,12 +149,16 @@ struct TagTracker::Impl {
     // Searches the followed tags' windows; false when the result cannot stand for a
     // full-frame search (a detection cut by a window's edge, a tag of the last frame missing).
     bool searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out);
+    // Detects in `windows` on both detectors at once (each window on one), the results per window.
+    void searchInParallel(uint8_t* pixels, int stride, const std::vector<SearchWindow>& windows,
+                          std::vector<std::vector<TagDetection>>& found);
     // After a frame: follows its tags, and the unseen tags of the maps it shows.
     void follow(const std::vector<TagDetection>& detections);
 
     // Detects in the rectangle [x0, x1) x [y0, y1) of `pixels` (row stride `stride`) and
     // appends to `out` with corners in full-image coordinates.
-    void detectIn(uint8_t* pixels, int stride, int x0, int y0, int x1, int y1, std::vector<TagDetection>& out);
+    static void detectIn(apriltag_detector_t& td, uint8_t* pixels, int stride, const SearchWindow& w,
+                         std::vector<TagDetection>& out);
 };
 
 namespace {
@@ -155,33 +187,32 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
 {
     validate(config, intrinsics, sizes);
     impl_->family = createAprilTagFamily(config.family);
-    impl_->detector.reset(apriltag_detector_create());
-    if (!impl_->detector)
-        throw RuntimeError("cannot create the AprilTag detector");
-    apriltag_detector_t& td = *impl_->detector;
-    td.quad_decimate = float(config.quadDecimate);
-    td.quad_sigma = float(config.quadSigma);
-    td.refine_edges = config.refineEdges;
-    td.decode_sharpening = config.decodeSharpening;
-    td.nthreads = kLibraryThreadsAreSafe ? config.threads : 1;
+    const int bits = correctableBitsFor(*impl_->family);
+    impl_->detector = createDetector(config, *impl_->family, bits, kLibraryThreadsAreSafe ? config.threads : 1);
+    const apriltag_detector_t& td = *impl_->detector;
     if (td.nthreads != config.threads) {
         LUMAR_LOG(Tracking, Info) << "libapriltag " << LUMAR_APRILTAG_VERSION
-                                  << " can crash with several threads (fixed in 3.4.3): detecting on 1 thread, not "
+                                  << " can crash with several threads (fixed in 3.4.3): full frames on 1 thread, not "
                                   << config.threads;
     }
-    const int bits = correctableBitsFor(*impl_->family);
-    apriltag_detector_add_family_bits(&td, impl_->family.get(), bits);
+    impl_->copyInput = libraryWritesInput(config);
+    // Not where the library writes into the frame: windows are disjoint, but one blurred in
+    // place by one thread next to one read by the other is not worth the doubt.
+    if (config.threads >= 2 && config.roi && !impl_->copyInput) {
+        impl_->second = createDetector(config, *impl_->family, bits, 1);
+        impl_->helper = std::make_unique<HelperThread>();
+    }
 
     impl_->intrinsics = intrinsics;
     impl_->sizes = std::move(sizes);
-    impl_->copyInput = libraryWritesInput(config);
     impl_->roi = config.roi;
     impl_->fullFrameEvery = std::max(1, config.fullFrameEvery);
     impl_->roiAlignment = 4 * int(std::ceil(config.quadDecimate));
     impl_->forgetHistory();
     LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits << " bits), quad_decimate "
                               << config.quadDecimate << ", quad_sigma " << config.quadSigma << ", refine_edges "
-                              << config.refineEdges << ", " << td.nthreads << " threads";
+                              << config.refineEdges << ", " << td.nthreads << " threads"
+                              << (impl_->second ? ", windows on 2 detectors" : "");
 }
 
 TagTracker::~TagTracker() = default;
@@ -288,7 +319,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         ++counts.fullSearches;
         result.clear();
         impl_->framesSinceFullSearch = 0;
-        impl_->detectIn(pixels, luma.width, 0, 0, luma.width, luma.height, result);
+        Impl::detectIn(*impl_->detector, pixels, luma.width, {0, 0, luma.width, luma.height}, result);
         sortDetections(result);
     }
     impl_->solvePoses(result);
@@ -299,14 +330,27 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
 
 bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out)
 {
-    for (const SearchWindow& w : followed.windows(frameCount)) {
-        if (w.x1 - w.x0 < kMinImageSide || w.y1 - w.y0 < kMinImageSide)
-            continue; // a sliver at the image's edge: a tag missing there brings the full frame
-        const size_t first = out.size();
-        detectIn(pixels, width, w.x0, w.y0, w.x1, w.y1, out);
-        const std::vector<TagDetection> found(out.begin() + std::ptrdiff_t(first), out.end());
-        if (!wellInside(found, w, width, height))
-            return false;
+    std::vector<SearchWindow> windows = followed.windows(frameCount);
+    // A sliver at the image's edge is not searched: a tag missing there brings the full frame.
+    std::erase_if(windows,
+                  [](const SearchWindow& w) { return w.x1 - w.x0 < kMinImageSide || w.y1 - w.y0 < kMinImageSide; });
+    if (second && windows.size() >= 2) {
+        std::vector<std::vector<TagDetection>> found(windows.size());
+        searchInParallel(pixels, width, windows, found);
+        for (size_t i = 0; i < windows.size(); ++i) {
+            if (!wellInside(found[i], windows[i], width, height))
+                return false;
+            out.insert(out.end(), found[i].begin(), found[i].end());
+        }
+    } else {
+        std::vector<TagDetection> found;
+        for (const SearchWindow& w : windows) {
+            found.clear();
+            detectIn(*detector, pixels, width, w, found);
+            if (!wellInside(found, w, width, height))
+                return false;
+            out.insert(out.end(), found.begin(), found.end());
+        }
     }
     sortDetections(out);
     // Every tag of the last frame found again (both lists sorted by id)? A tag missing now is
@@ -374,11 +418,43 @@ void TagTracker::Impl::solvePoses(std::vector<TagDetection>& detections)
     }
 }
 
-void TagTracker::Impl::detectIn(uint8_t* pixels, int stride, int x0, int y0, int x1, int y1,
+void TagTracker::Impl::searchInParallel(uint8_t* pixels, int stride, const std::vector<SearchWindow>& windows,
+                                        std::vector<std::vector<TagDetection>>& found)
+{
+    // The windows shared out by area (the detector's time grows with it), largest first, each
+    // to the detector with less so far. Each thread writes only its own windows' results.
+    std::vector<size_t> order(windows.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    const auto area = [&windows](size_t i) {
+        const SearchWindow& w = windows[i];
+        return int64_t(w.x1 - w.x0) * int64_t(w.y1 - w.y0);
+    };
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return area(a) > area(b); });
+    std::vector<size_t> ours, theirs;
+    int64_t ourArea = 0, theirArea = 0;
+    for (const size_t i : order) {
+        if (ourArea <= theirArea) {
+            ours.push_back(i);
+            ourArea += area(i);
+        } else {
+            theirs.push_back(i);
+            theirArea += area(i);
+        }
+    }
+    const auto searchOn = [&](apriltag_detector_t& td, const std::vector<size_t>& share) {
+        for (const size_t i : share)
+            detectIn(td, pixels, stride, windows[i], found[i]);
+    };
+    helper->runAlongside([&] { searchOn(*second, theirs); }, [&] { searchOn(*detector, ours); });
+}
+
+void TagTracker::Impl::detectIn(apriltag_detector_t& td, uint8_t* pixels, int stride, const SearchWindow& w,
                                 std::vector<TagDetection>& out)
 {
-    image_u8_t image{x1 - x0, y1 - y0, stride, pixels + size_t(y0) * size_t(stride) + size_t(x0)};
-    const DetectionsPtr detections(apriltag_detector_detect(detector.get(), &image));
+    const int x0 = w.x0, y0 = w.y0;
+    image_u8_t image{w.x1 - w.x0, w.y1 - w.y0, stride, pixels + size_t(y0) * size_t(stride) + size_t(x0)};
+    const DetectionsPtr detections(apriltag_detector_detect(&td, &image));
     if (!detections)
         throw RuntimeError("AprilTag detection failed");
 

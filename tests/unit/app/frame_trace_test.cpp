@@ -85,5 +85,51 @@ TEST(FrameTrace, NonFiniteNumbersBecomeNull)
     EXPECT_TRUE(lines[0]["stage_ms"]["detect"].is_null());
 }
 
+// Issue 19: the measured map poses, the filtered poses drawn with (tags by id, maps by name)
+// and the objects' transforms as the renderer received them.
+TEST(FrameTrace, CarriesMapsFilteredPosesAndObjects)
+{
+    FrameReport r = aReport();
+    r.capturedNs = 77;
+    r.detectedSequence = 40;
+    r.poseTimeNs = 1'234'567'990'123;
+    MapDetection map;
+    map.index = 0;
+    map.name = "board";
+    map.tagIds = {0, 1};
+    map.reprojectionErrorPx = 0.25;
+    map.cameraFromMap.t = {0.0, 0.1, 0.6};
+    r.maps = {map};
+    r.mapNames = {"board"};
+    TrackedPoses::Used tag{3, {}, 40};
+    tag.cameraFromMarker.t = {0.1, -0.2, 1.2};
+    TrackedPoses::Used board{TrackedPoses::mapKey(0), {}, 41};
+    r.poses = {board, tag};
+    DrawnObject object;
+    object.object = 2;
+    object.marker = 3;
+    object.cameraFromModel[3] = glm::dvec4(0.1, -0.2, 1.25, 1.0);
+    r.objects = {object};
+    const auto lines = traceLines({r});
+    ASSERT_EQ(lines.size(), 1u);
+    const nlohmann::json& j = lines[0];
+    EXPECT_EQ(j["captured_ns"], 77);
+    EXPECT_EQ(j["detected_frame"], 40);
+    EXPECT_EQ(j["pose_time_ns"], 1'234'567'990'123);
+    ASSERT_EQ(j["maps"].size(), 1u);
+    EXPECT_EQ(j["maps"][0]["map"], "board");
+    EXPECT_EQ(j["maps"][0]["tags"], nlohmann::json::parse("[0,1]"));
+    EXPECT_EQ(j["maps"][0]["t"][2].get<double>(), 0.6);
+    ASSERT_EQ(j["poses"].size(), 2u);
+    EXPECT_EQ(j["poses"][0]["map"], "board");
+    EXPECT_EQ(j["poses"][0]["last_seen"], 41);
+    EXPECT_EQ(j["poses"][1]["id"], 3);
+    EXPECT_EQ(j["poses"][1]["t"][2].get<double>(), 1.2);
+    ASSERT_EQ(j["objects"].size(), 1u);
+    EXPECT_EQ(j["objects"][0]["object"], 2);
+    EXPECT_EQ(j["objects"][0]["camera_from_model"][2][3].get<double>(), 1.25) << "row-major, translation last";
+    EXPECT_EQ(j["objects"][0]["camera_from_model"][3], nlohmann::json::parse("[0,0,0,1]"));
+}
+
 } // namespace
 } // namespace lumar

@@ -208,5 +208,35 @@ TEST(Reacquisition, ResetSearchesTheNextImageAsAStill)
     EXPECT_THROW(tracker.reset(CameraIntrinsics{}), InputError);
 }
 
+// threads = 2 (issue 19): the followed tags' windows are searched on two detectors at once;
+// every window is searched as one detector searches it, so the results are the same, frame
+// by frame, through misses, occlusions and re-acquisitions.
+TEST(Reacquisition, TwoDetectorsFindExactlyWhatOneFinds)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TrackingConfig two = roiConfig();
+    two.threads = 2;
+    TagTracker one(roiConfig(), camera(), sizes), parallel(two, camera(), sizes);
+    for (int frame = 0; frame < 3 * kFullFrameEvery; ++frame) {
+        // Three tags far apart (three windows), one of them hidden now and then.
+        std::vector<PlacedTag> tags = twoTags(frame, 5, 8);
+        if (frame % 7 != 3)
+            tags.push_back({2, 200 + frame, 340});
+        const Image8 image = drawTags(tags);
+        const auto a = one.detect(image), b = parallel.detect(image);
+        ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
+        for (size_t i = 0; i < a.size(); ++i) {
+            EXPECT_EQ(a[i].id, b[i].id) << "frame " << frame;
+            EXPECT_EQ(a[i].corners, b[i].corners) << "frame " << frame;
+            EXPECT_EQ(a[i].hasPose, b[i].hasPose) << "frame " << frame;
+        }
+        EXPECT_EQ(found(b, 0), frame < 5 || frame >= 8) << "frame " << frame;
+        EXPECT_EQ(found(b, 2), frame % 7 != 3) << "frame " << frame;
+    }
+    EXPECT_EQ(parallel.searchCounts().windowSearches, one.searchCounts().windowSearches);
+    EXPECT_GT(parallel.searchCounts().windowSearches, 0u);
+}
+
 } // namespace
 } // namespace lumar
