@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs one libFuzzer target (tests/fuzz) for SECONDS:
 #   scripts/fuzz.sh TARGET SECONDS [libFuzzer options...]
-# TARGET: config board_profile material_sidecar gltf hdr calibration y4m.
+# TARGET: config board_profile material_sidecar gltf hdr calibration y4m mjpeg v4l2_frame
+# fake_camera.
 # Builds build-fuzz/ (clang 14, -DLUMAR_FUZZ=ON: ASan, UBSan, coverage) on first use, seeds a
 # working corpus from tests/fuzz/seeds/TARGET.txt and tests/fuzz/regressions/TARGET/, and
 # leaves crashes in build-fuzz/fuzz-artifacts/TARGET/. A crash found becomes a regression
@@ -45,7 +46,7 @@ done <"$root/tests/fuzz/seeds/$target.txt"
 find "$root/tests/fuzz/regressions/$target" -type f -exec cp -n {} "$corpus/" \;
 
 case $target in
-  config | board_profile | material_sidecar) dict=(-dict="$root/tests/fuzz/dict/toml.dict") ;;
+  config | board_profile | material_sidecar | fake_camera) dict=(-dict="$root/tests/fuzz/dict/toml.dict") ;;
   gltf) dict=(-dict="$root/tests/fuzz/dict/gltf.dict") ;;
   calibration) dict=(-dict="$root/tests/fuzz/dict/yaml.dict") ;;
   *) dict=() ;;

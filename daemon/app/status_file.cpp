@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/json_output.h"
+#include "core/log.h"
 
 namespace lumar {
 
@@ -54,6 +55,22 @@ void StatusFile::write(const RunStatus& status) const
     fs::rename(partial, path_, ec);
     if (ec)
         throw RuntimeError(path_.string() + ": cannot replace: " + ec.message());
+}
+
+bool StatusFile::writeOrReport(const RunStatus& status)
+{
+    try {
+        write(status);
+    } catch (const RuntimeError& e) {
+        if (failure_ != e.what())
+            LUMAR_LOG(Output, Error) << "status file not updated: " << e.what() << " (the daemon goes on)";
+        failure_ = e.what();
+        return false;
+    }
+    if (!failure_.empty())
+        LUMAR_LOG(Output, Info) << path_.string() << ": status file written again";
+    failure_.clear();
+    return true;
 }
 
 } // namespace lumar

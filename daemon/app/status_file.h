@@ -37,10 +37,16 @@ public:
     explicit StatusFile(std::filesystem::path path) : path_(std::move(path)) {}
     // Throws RuntimeError when the file cannot be written.
     void write(const RunStatus& status) const;
+    // What the running daemon calls: a status that cannot be written (disk full, directory
+    // made read-only) is logged, not thrown, and the daemon goes on (issue 16's fault
+    // campaign). One line when writing starts failing or fails for another reason, one when it
+    // works again, not one a second. Returns whether the file was written.
+    bool writeOrReport(const RunStatus& status);
     [[nodiscard]] bool enabled() const { return !path_.empty(); }
 
 private:
     std::filesystem::path path_;
+    std::string failure_; // the last write's error, empty while writes succeed
 };
 
 } // namespace lumar

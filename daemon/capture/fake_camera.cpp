@@ -824,6 +824,11 @@ FakeCamera::FakeCamera(const CameraConfig& config)
                              << ", exposure " << config.exposure << ", seed " << config.seed;
 }
 
+void FakeCamera::validateScene(const CameraConfig& config)
+{
+    validate(config);
+}
+
 FakeCamera::~FakeCamera() = default;
 
 bool FakeCamera::next(Frame& frame)

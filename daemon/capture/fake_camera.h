@@ -35,6 +35,9 @@ public:
     // Throws InputError for an invalid scene (no tag, an id without a tag36h11 code, ...).
     explicit FakeCamera(const CameraConfig& config);
     ~FakeCamera() override;
+    // The constructor's checks alone, without building the scene (which bakes the table's
+    // texture: seconds under a sanitizer; the fuzz target tests/fuzz/fuzz_fake_camera.cpp).
+    static void validateScene(const CameraConfig& config);
 
     bool next(Frame& frame) override; // never ends
     [[nodiscard]] int width() const override;

@@ -320,7 +320,7 @@ int runCommand(const RunCommandOptions& options)
             status.camera = std::string("unavailable: ") + e.what();
             // No frame comes, so neither does the periodic rewrite below: say it now.
             status.uptimeS = std::chrono::duration<double>(Clock::now() - started).count();
-            scene->statusFile.write(status);
+            scene->statusFile.writeOrReport(status);
             cameraDown = true;
             continue;
         }
@@ -349,7 +349,7 @@ int runCommand(const RunCommandOptions& options)
         if (std::exchange(cameraDown, false)) {
             // Back: both reports lose the "unavailable" at once, not at the next window.
             status.uptimeS = std::chrono::duration<double>(now - started).count();
-            scene->statusFile.write(status);
+            scene->statusFile.writeOrReport(status);
             notifier.status(statusLine());
         }
         if (now - windowStart >= std::chrono::seconds(1)) {
@@ -364,7 +364,7 @@ int runCommand(const RunCommandOptions& options)
             for (const TagDetection& d : report.detections)
                 status.markersVisible.push_back(d.id);
             status.uptimeS = std::chrono::duration<double>(now - started).count();
-            scene->statusFile.write(status);
+            scene->statusFile.writeOrReport(status);
             scene->pipeline->setOverlayStatus(overlayStatus(status));
             if (++windows % 5 == 0) {
                 const std::string line = statusLine();

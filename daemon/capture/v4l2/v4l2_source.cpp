@@ -16,6 +16,7 @@
 
 #include "capture/v4l2/v4l2_controls.h"
 #include "capture/v4l2/v4l2_format.h"
+#include "capture/v4l2/v4l2_frame_layout.h"
 #include "capture/v4l2/v4l2_ioctl.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -110,33 +111,14 @@ void V4l2Source::negotiateFormat()
     format.fmt.pix.field = V4L2_FIELD_NONE;
     v4l2IoctlOrThrow(device, fd_.get(), VIDIOC_S_FMT, &format, "VIDIOC_S_FMT");
     const v4l2_pix_format& accepted = format.fmt.pix;
-    if (accepted.pixelformat != pixelFormat_) {
-        throw RuntimeError(device + ": the driver replaced " + fourccName(pixelFormat_) + " by " +
-                           fourccName(accepted.pixelformat));
-    }
+    const V4l2FrameLayout layout = frameLayoutOf(device, accepted, pixelFormat_);
+    width_ = layout.width;
+    height_ = layout.height;
+    bytesPerLine_ = layout.bytesPerLine;
+    imageSize_ = layout.imageSize;
     const bool compressed = pixelFormat_ == V4L2_PIX_FMT_MJPEG;
-    const bool subsampled = pixelFormat_ != V4L2_PIX_FMT_GREY && !compressed;
-    const bool verticallySubsampled = pixelFormat_ == V4L2_PIX_FMT_NV12;
-    const size_t bytesPerPixel = pixelFormat_ == V4L2_PIX_FMT_YUYV ? 2 : 1;
-    if (accepted.width == 0 || accepted.height == 0 || (subsampled && accepted.width % 2 != 0) ||
-        (verticallySubsampled && accepted.height % 2 != 0) ||
-        (!compressed && accepted.bytesperline < accepted.width * bytesPerPixel) ||
-        (compressed && accepted.sizeimage == 0)) {
-        throw RuntimeError(device + ": the driver returned an unusable format (" + std::to_string(accepted.width) +
-                           "x" + std::to_string(accepted.height) + ", " + std::to_string(accepted.bytesperline) +
-                           " bytes per line)");
-    }
-    width_ = int(accepted.width);
-    height_ = int(accepted.height);
-    bytesPerLine_ = accepted.bytesperline;
-    const size_t planeSize = bytesPerLine_ * size_t(height_);
-    imageSize_ = compressed ? 0 : verticallySubsampled ? planeSize + planeSize / 2 : planeSize;
     if (compressed && !mjpeg_) {
         mjpeg_ = std::make_unique<MjpegDecoder>();
-    }
-    if (accepted.sizeimage < imageSize_) {
-        throw RuntimeError(device + ": the driver's image size " + std::to_string(accepted.sizeimage) +
-                           " is smaller than the format needs (" + std::to_string(imageSize_) + ")");
     }
     converter_ = YCbCrConverter(colorimetryOf(accepted));
     if (compressed) {
@@ -352,12 +334,9 @@ bool V4l2Source::dequeueGoodBuffer(v4l2_buffer& buffer, int64_t deadline)
                                  << " (" << framesDropped_ << " in all)";
     }
     lastSequence_ = buffer.sequence;
-    const size_t length = buffers_[buffer.index]->size();
-    if ((buffer.flags & V4L2_BUF_FLAG_ERROR) || buffer.bytesused < std::max<size_t>(imageSize_, 1) ||
-        buffer.bytesused > length) {
-        countCorrupt(buffer.sequence, std::to_string(buffer.bytesused) + " bytes of " +
-                                          (imageSize_ > 0 ? std::to_string(imageSize_) : "a JPEG") +
-                                          ((buffer.flags & V4L2_BUF_FLAG_ERROR) ? ", error flag" : ""));
+    const std::string defect = bufferDefect(layout(), buffer.flags, buffer.bytesused, buffers_[buffer.index]->size());
+    if (!defect.empty()) {
+        countCorrupt(buffer.sequence, defect);
         queueBuffer(buffer.index);
         return false;
     }
@@ -454,53 +433,15 @@ bool V4l2Source::next(Frame& frame)
     return true;
 }
 
-void V4l2Source::keepRawPlanes(const uint8_t* data, Frame& frame) const
+V4l2FrameLayout V4l2Source::layout() const
 {
-    YCbCrImage& raw = frame.ycbcr;
-    raw.width = width_;
-    raw.height = height_;
-    raw.colorimetry = converter_.colorimetry();
-    const size_t width = size_t(width_);
-    if (pixelFormat_ == V4L2_PIX_FMT_NV12) {
-        raw.layout = YCbCrLayout::Nv12;
-        copyPlaneRows(data, bytesPerLine_, width, height_, raw.plane0);
-        copyPlaneRows(data + bytesPerLine_ * size_t(height_), bytesPerLine_, width, height_ / 2, raw.plane1);
-        raw.stride0 = raw.stride1 = width;
-        converter_.convertLuma(data, bytesPerLine_, 1, width_, height_, frame.luma);
-    } else {
-        raw.layout = YCbCrLayout::Yuyv;
-        copyPlaneRows(data, bytesPerLine_, width * 2, height_, raw.plane0);
-        raw.plane1.clear();
-        raw.stride0 = width * 2;
-        raw.stride1 = 0;
-        converter_.convertLuma(data, bytesPerLine_, 2, width_, height_, frame.luma);
-    }
+    return {pixelFormat_, width_, height_, bytesPerLine_, imageSize_};
 }
 
 bool V4l2Source::convert(const uint8_t* data, size_t bytesUsed, Frame& frame)
 {
-    const bool raw = pixelFormat_ == V4L2_PIX_FMT_NV12 || pixelFormat_ == V4L2_PIX_FMT_YUYV;
-    if (options_.rawYcbcr && raw) {
-        keepRawPlanes(data, frame);
-        return true;
-    }
-    // A frame object recycled from a raw frame must not carry stale planes.
-    frame.ycbcr.layout = YCbCrLayout::None;
-    switch (pixelFormat_) {
-    case V4L2_PIX_FMT_MJPEG:
-        return mjpeg_->decode(data, bytesUsed, width_, height_, frame.rgb, frame.luma, decodeError_);
-    case V4L2_PIX_FMT_YUYV:
-        converter_.convertYuyv(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
-        break;
-    case V4L2_PIX_FMT_NV12:
-        converter_.convertNv12(data, bytesPerLine_, data + bytesPerLine_ * size_t(height_), bytesPerLine_, width_,
-                               height_, frame.rgb, frame.luma);
-        break;
-    default:
-        converter_.convertGrey(data, bytesPerLine_, width_, height_, frame.rgb, frame.luma);
-        break;
-    }
-    return true;
+    return convertV4l2Frame(layout(), converter_, mjpeg_.get(), options_.rawYcbcr, data, bytesUsed, frame,
+                            decodeError_);
 }
 
 } // namespace lumar

@@ -18,6 +18,7 @@
 #include "capture/capture_source.h"
 #include "capture/v4l2/mjpeg_decoder.h"
 #include "capture/v4l2/v4l2_buffer.h"
+#include "capture/v4l2/v4l2_frame_layout.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 #include "core/unique_fd.h"
 
@@ -91,8 +92,8 @@ private:
     void queueBuffer(uint32_t index);
     // Converts (or decodes) one buffer into the frame; false when the data is corrupt.
     bool convert(const uint8_t* data, size_t bytesUsed, Frame& frame);
-    // Copies an NV12/YUYV buffer's planes into frame.ycbcr and fills frame.luma.
-    void keepRawPlanes(const uint8_t* data, Frame& frame) const;
+    // The negotiated format's layout (v4l2_frame_layout.h).
+    [[nodiscard]] V4l2FrameLayout layout() const;
     // Zero-copy: whether the buffer just dequeued can be lent (an NV12/YUYV stream asked to,
     // with at least two other buffers still with the driver), and lending it to the frame.
     [[nodiscard]] bool canLend() const;

@@ -94,5 +94,19 @@ TEST(StatusFile, ReplacesTheFileWorldReadableWhateverTheUmask)
     EXPECT_FALSE(std::filesystem::exists(dir / "status.json.partial"));
 }
 
+// The daemon's write: a status that cannot be written (here its directory is missing, as
+// when it was removed or is on a full disk) is reported, not thrown, and the next write
+// after the cause is gone succeeds.
+TEST(StatusFile, AFailedWriteIsReportedNotThrownAndRecovers)
+{
+    const test::TempDir dir;
+    StatusFile file(dir / "gone" / "status.json");
+    EXPECT_FALSE(file.writeOrReport(aStatus()));
+    EXPECT_FALSE(file.writeOrReport(aStatus()));
+    std::filesystem::create_directory(dir / "gone");
+    EXPECT_TRUE(file.writeOrReport(aStatus()));
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir / "gone" / "status.json"))["frames"], 1234);
+}
+
 } // namespace
 } // namespace lumar
