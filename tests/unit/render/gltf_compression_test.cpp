@@ -282,6 +282,9 @@ void expectSameGeometry(const GltfModel& got, const GltfModel& expected)
 
 TEST(GltfMeshopt, CompressedCubeLoadsAsItsUncompressedTwin)
 {
+    if (!gltf::meshoptDecoderBuilt()) {
+        GTEST_SKIP() << "built without the meshopt decoder (LUMAR_WITH_MESHOPT_DECODER)";
+    }
     ScratchDir dir;
     const MeshoptFile plainFile = meshoptCube(false);
     const GltfModel plain = loadGltfModel(plainFile.writeGltf(dir, "plain.gltf"));
@@ -307,6 +310,9 @@ TEST(GltfMeshopt, CompressedCubeLoadsAsItsUncompressedTwin)
 
 TEST(GltfMeshopt, IndexSequenceOfAStrip)
 {
+    if (!gltf::meshoptDecoderBuilt()) {
+        GTEST_SKIP() << "built without the meshopt decoder (LUMAR_WITH_MESHOPT_DECODER)";
+    }
     ScratchDir dir;
     // Four vertices as a strip (mode 5), indices stored with the INDICES codec as u32.
     MeshoptFile file;
@@ -333,6 +339,9 @@ TEST(GltfMeshopt, IndexSequenceOfAStrip)
 // accessors), checked here on the decoded buffer view itself.
 TEST(GltfMeshopt, OctahedralAndQuaternionFiltersDecodeToTheEncodedValues)
 {
+    if (!gltf::meshoptDecoderBuilt()) {
+        GTEST_SKIP() << "built without the meshopt decoder (LUMAR_WITH_MESHOPT_DECODER)";
+    }
     const std::vector<glm::vec3> directions = {glm::normalize(glm::vec3(1, 2, 3)), glm::vec3(0, 0, -1),
                                                glm::normalize(glm::vec3(-1, 0.5f, 0.25f)), glm::vec3(1, 0, 0)};
     std::vector<float> octInput;
@@ -401,6 +410,9 @@ TEST(GltfMeshopt, OctahedralAndQuaternionFiltersDecodeToTheEncodedValues)
 
 TEST(GltfMeshopt, TruncatedOrCorruptDataIsOneLineNamingTheBufferView)
 {
+    if (!gltf::meshoptDecoderBuilt()) {
+        GTEST_SKIP() << "built without the meshopt decoder (LUMAR_WITH_MESHOPT_DECODER)";
+    }
     ScratchDir dir;
     const MeshoptFile good = meshoptCube(true);
 
@@ -437,6 +449,9 @@ TEST(GltfMeshopt, TruncatedOrCorruptDataIsOneLineNamingTheBufferView)
 
 TEST(GltfMeshopt, ExtensionObjectsBreakingTheRulesAreRefused)
 {
+    if (!gltf::meshoptDecoderBuilt()) {
+        GTEST_SKIP() << "built without the meshopt decoder (LUMAR_WITH_MESHOPT_DECODER)";
+    }
     ScratchDir dir;
     using Edits = std::vector<std::pair<std::string, std::string>>;
     const auto rejectedWith = [&](const Edits& edits, const std::string& expected) {
