@@ -36,3 +36,14 @@ set_target_properties(PkgConfig::LIBCAMERA PROPERTIES INTERFACE_SYSTEM_INCLUDE_D
 include(FindOpenCVModules)
 
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+
+# Compressed glTF geometry (gles_renderer/assets/gltf_compression.h), each decoder optional:
+# without one, a model that requires its extension is refused with a message naming it.
+# KHR_draco_mesh_compression: Debian 12 has libdraco-dev 1.5.5.
+find_package(draco CONFIG QUIET)
+option(LUMAR_WITH_DRACO "Decode KHR_draco_mesh_compression glTF models (libdraco-dev)" ${draco_FOUND})
+if(LUMAR_WITH_DRACO AND NOT draco_FOUND)
+  message(FATAL_ERROR "LUMAR_WITH_DRACO is ON but libdraco-dev is not installed (scripts/install-deps.sh)")
+endif()
+# EXT_meshopt_compression: meshoptimizer's decoder (the library is required above anyway).
+option(LUMAR_WITH_MESHOPT_DECODER "Decode EXT_meshopt_compression glTF models (libmeshoptimizer-dev)" ON)

@@ -12,6 +12,7 @@ build_packages=(
   libapriltag-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libmeshoptimizer-dev
+  libdraco-dev # KHR_draco_mesh_compression glTF models (optional: LUMAR_WITH_DRACO)
   libturbojpeg0-dev
   libcamera-dev
   libtomlplusplus-dev

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "core/error.h"
 #include "core/file_bytes.h"
 #include "core/log.h"
+#include "gles_renderer/assets/gltf_compression.h"
 #include "gles_renderer/assets/gltf_json_check.h"
 
 namespace lumar::gltf {
@@ -220,6 +222,12 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
         checkGlbContainer(bytes);
     }
     checkGltfJson(jsonText(bytes, binary));
+    // Draco and meshopt files: the JSON parts tinygltf cannot read moved aside (gltf_compression.h).
+    std::vector<unsigned char> prepared;
+    if (const std::optional<std::string> json = prepareCompressedJson(jsonText(bytes, binary), binary)) {
+        prepared = binary ? glbWithJson(bytes, *json) : std::vector<unsigned char>(json->begin(), json->end());
+    }
+    const std::vector<unsigned char>& input = prepared.empty() ? bytes : prepared;
     std::error_code ec;
     ModelFolder folder{std::filesystem::weakly_canonical(
         file.has_parent_path() ? file.parent_path() : std::filesystem::path("."), ec)};
@@ -238,9 +246,9 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
     const std::string baseDir = file.parent_path().string();
     bool ok = false;
     try {
-        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
-                    : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                                 unsigned(bytes.size()), baseDir);
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, input.data(), unsigned(input.size()), baseDir)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(input.data()),
+                                                 unsigned(input.size()), baseDir);
     } catch (const std::exception& e) {
         // tinygltf only guards its JSON parse; anything else it throws is still about the file.
         throw InputError(std::string("glTF parser failed: ") + e.what());
@@ -251,6 +259,7 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
         throw InputError(reason.empty() ? std::string("not a valid glTF file") : reason);
     }
     logLines(file, err); // tinygltf reports some recoverable problems as errors and goes on
+    decodeCompressedData(model);
     return model;
 }
 
