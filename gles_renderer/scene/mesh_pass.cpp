@@ -62,6 +62,7 @@ public:
         bindTexture(MeshPass::kSpecularUnit, material->specular);
         bindTexture(MeshPass::kLobeUnit, material->lobe);
         bindTexture(MeshPass::kTangentRotationUnit, material->tangentRotation);
+        bindTexture(MeshPass::kOcclusionUnit, material->occlusion);
         setCulling(!material->doubleSided);
     }
 
@@ -100,6 +101,7 @@ MeshPass::MeshPass()
     glUniform1i(uniformLocation(program_, "uGlossy2Map"), GLint(kGlossy2MapUnit));
     glUniform1i(uniformLocation(program_, "uMirrorMap"), GLint(kMirrorMapUnit));
     glUniform1i(uniformLocation(program_, "uShadowMap"), GLint(kShadowMapUnit));
+    glUniform1i(uniformLocation(program_, "uOcclusion"), GLint(kOcclusionUnit));
     bindUniformBlock(program_, "Frame", kFrameBlockBinding);
     bindUniformBlock(program_, "Material", kMaterialBlockBinding);
     glUseProgram(phantomProgram_.name());
@@ -132,6 +134,10 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
+    // What primitives without vertex colours or a second uv set read (their attribute
+    // arrays stay disabled): white and (0, 0). Context state, so set for every pass.
+    glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
+    glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 1.0f);
     if (phantoms == Phantoms::DepthOnly) {
         // The phantoms first, into depth alone with a shader that shades nothing.
         // The program writes no colour, which leaves the colour buffer undefined where it
@@ -157,12 +163,41 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     std::sort(order_.begin(), order_.end());
     StateCache state;
     glUseProgram(program_.name());
+    blended_.clear();
     for (const auto& [depth, i] : order_)
         drawItem(items[i], maps[i], models, state, cameraFromMeshLocation_, normalFromMeshLocation_, detail,
-                 focalPixels);
+                 focalPixels, &blended_, i);
     if (cameraPhantoms)
         drawCameraPhantoms(*camera, models, items, maps, skip, state, detail, focalPixels);
+    if (!blended_.empty()) {
+        const bool rgbmMap = frame.frameParams.y > 0.5f && frame.frameParams.z > 0.5f;
+        drawBlended(items, maps, models, state, !rgbmMap);
+    }
     glBindVertexArray(0);
+}
+
+void MeshPass::drawBlended(std::span<const DrawItem> items, std::span<const IblMaps* const> maps,
+                           const std::vector<GpuModel>& models, StateCache& state, bool canBlend) const
+{
+    // Farthest first (the camera looks along +z).
+    std::sort(blended_.begin(), blended_.end(),
+              [](const BlendedPrimitive& a, const BlendedPrimitive& b) { return a.depth > b.depth; });
+    glUseProgram(program_.name());
+    if (canBlend) {
+        glEnable(GL_BLEND);
+        // The destination's alpha is kept: the frame's alpha is not coverage.
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+        glDepthMask(GL_FALSE);
+    }
+    for (const BlendedPrimitive& b : blended_) {
+        state.bindMaps(maps[b.item]);
+        drawPrimitive(items[b.item], models[size_t(items[b.item].model)], *b.primitive, state, cameraFromMeshLocation_,
+                      normalFromMeshLocation_);
+    }
+    if (canBlend) {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+    }
 }
 
 void MeshPass::drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -210,7 +245,7 @@ double MeshPass::modelPixels(const DrawItem& item, const GpuModel& model, double
 
 void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
                         StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail,
-                        double focalPixels) const
+                        double focalPixels, std::vector<BlendedPrimitive>* blended, size_t itemIndex) const
 {
     const bool shaded = normalFromMeshLocation >= 0;
     if (shaded)
@@ -220,26 +255,39 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
         detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
                                 : model.primitives;
     for (const GpuPrimitive& primitive : primitives) {
-        // Composed in double precision: model matrices may carry large translations.
-        const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
-        const glm::dmat3 linear(cameraFromMesh);
-        const double determinant = glm::determinant(linear);
-        if (determinant == 0.0 || !std::isfinite(determinant))
-            continue; // flattened to nothing: invisible
-        // A mirroring transform turns the winding around (see clipFromCamera for CW).
-        state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
-        const glm::mat4 cameraFromMeshF(cameraFromMesh);
-        glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
-        if (shaded) {
-            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
-            glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
-            state.bindMaterial(&model.materials[primitive.material]);
-        } else {
-            state.setCulling(!model.materials[primitive.material].doubleSided);
+        if (blended != nullptr && model.materials[primitive.material].alphaMode == GltfAlphaMode::Blend) {
+            const glm::dvec4 centre =
+                item.cameraFromModel * primitive.modelFromMesh * glm::dvec4(glm::dvec3(primitive.centre), 1.0);
+            blended->push_back({centre.z, itemIndex, &primitive});
+            continue;
         }
-        glBindVertexArray(primitive.vertexArray.name());
-        glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+        drawPrimitive(item, model, primitive, state, cameraFromMeshLocation, normalFromMeshLocation);
     }
+}
+
+void MeshPass::drawPrimitive(const DrawItem& item, const GpuModel& model, const GpuPrimitive& primitive,
+                             StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation) const
+{
+    const bool shaded = normalFromMeshLocation >= 0;
+    // Composed in double precision: model matrices may carry large translations.
+    const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+    const glm::dmat3 linear(cameraFromMesh);
+    const double determinant = glm::determinant(linear);
+    if (determinant == 0.0 || !std::isfinite(determinant))
+        return; // flattened to nothing: invisible
+    // A mirroring transform turns the winding around (see clipFromCamera for CW).
+    state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+    const glm::mat4 cameraFromMeshF(cameraFromMesh);
+    glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+    if (shaded) {
+        const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+        glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+        state.bindMaterial(&model.materials[primitive.material]);
+    } else {
+        state.setCulling(!model.materials[primitive.material].doubleSided);
+    }
+    glBindVertexArray(primitive.vertexArray.name());
+    glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
 }
 
 } // namespace lumar

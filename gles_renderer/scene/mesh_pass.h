@@ -34,6 +34,7 @@ public:
     // phantom.frag's camera image and the phantoms' depth as the frame camera sees them.
     static constexpr GLuint kCameraImageUnit = 12;
     static constexpr GLuint kCameraDepthUnit = 13;
+    static constexpr GLuint kOcclusionUnit = 14; // glTF occlusionTexture (linear r)
 
     // How phantoms show the camera image in a view that is not the frame camera's (an
     // environment map's cube face): phantom.frag projects each fragment into the image.
@@ -75,9 +76,25 @@ public:
     void setShadowMap(GLuint texture) { shadowMap_ = texture; }
 
 private:
+    // A primitive with alphaMode BLEND, held back to be drawn after the opaque ones.
+    struct BlendedPrimitive {
+        double depth; // of its bounding-box centre along the view: drawn farthest first
+        size_t item;
+        const GpuPrimitive* primitive;
+    };
+
     // normalFromMeshLocation < 0: the depth-only program (no normals, no materials).
+    // `blended`: where BLEND primitives go instead of being drawn (null: drawn in order).
     void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
-                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels) const;
+                  GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels,
+                  std::vector<BlendedPrimitive>* blended = nullptr, size_t itemIndex = 0) const;
+    void drawPrimitive(const DrawItem& item, const GpuModel& model, const GpuPrimitive& primitive, StateCache& state,
+                       GLint cameraFromMeshLocation, GLint normalFromMeshLocation) const;
+    // The held-back BLEND primitives, back to front, blended over what is drawn, depth-tested
+    // without depth writes. `canBlend` false (RGBM environment maps, whose alpha is the
+    // encoding's scale): drawn as cut-outs at alpha 0.5 by the shader, with depth writes.
+    void drawBlended(std::span<const DrawItem> items, std::span<const IblMaps* const> maps,
+                     const std::vector<GpuModel>& models, StateCache& state, bool canBlend) const;
 
     // The phantoms among `items` with phantom.frag.
     void drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -88,6 +105,7 @@ private:
     static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
 
     mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
+    mutable std::vector<BlendedPrimitive> blended_;        // per-draw scratch
     GlProgram program_;
     GLint cameraFromMeshLocation_;
     GLint normalFromMeshLocation_;
