@@ -16,6 +16,7 @@ pkg_check_modules(GLESV2 REQUIRED IMPORTED_TARGET glesv2)
 pkg_check_modules(APRILTAG REQUIRED IMPORTED_TARGET apriltag)
 pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+pkg_check_modules(WEBP REQUIRED IMPORTED_TARGET libwebp) # EXT_texture_webp images
 # The KMS display sink: DRM/KMS modesetting (libdrm) and scan-out buffers for EGL (GBM).
 pkg_check_modules(LIBDRM REQUIRED IMPORTED_TARGET libdrm)
 pkg_check_modules(GBM REQUIRED IMPORTED_TARGET gbm)

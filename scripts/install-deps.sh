@@ -10,7 +10,7 @@ build_packages=(
   libglm-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-calib3d-dev
   libapriltag-dev
-  libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev libwebp-dev
   libmeshoptimizer-dev
   libdraco-dev # KHR_draco_mesh_compression glTF models (optional: LUMAR_WITH_DRACO)
   libturbojpeg0-dev

@@ -31,6 +31,12 @@ layout(std140) uniform Material {
     vec4 specularFactor;      // rgb: rho_s (Lafortune), w: tangent rotation / pi (x texel)
     vec4 lobeFactor;          // xyz: C_x, C_y, C_z, w: exponent n (Lafortune)
     vec4 textureFlags;        // 1 where the texture exists: base, mr/specular, lobe, rotation
+    // x: alpha mode (0 opaque, 1 mask, 2 blend), y: alpha cutoff, z: 1 = unlit, w: occlusion
+    // strength (0: no occlusion texture).
+    vec4 alphaUnlitOcclusion;
+    // Per texture slot (base, mr, normal, emissive, occlusion, specular, lobe, rotation): two
+    // rows of the uv transform (KHR_texture_transform); row 0's w: 1 = TEXCOORD_1.
+    vec4 uvTransforms[16];
 };
 
 uniform sampler2D uBaseColor;         // sRGB: base colour / rho_d
@@ -45,12 +51,13 @@ uniform samplerCube uGlossy1Map;      // Phong prefilter, n = 8
 uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
 uniform samplerCube uMirrorMap;       // the environment map itself
 uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
+uniform sampler2D uOcclusion;         // linear r: ambient occlusion
 
 // What the material and the view need, fixed when MeshPass links a variant of this program
 // for them (gles_renderer/scene/mesh_features.h). llvmpipe runs both sides of every branch,
 // uniform ones included, so a lookup a material does not need costs as much as one it does
-// unless the compiler removes it. Where a variant leaves a feature open (the generic
-// program), the uniforms decide.
+// unless the compiler removes it (and a discard anywhere in a program turns off its early
+// depth test). Where a variant leaves a feature open (the generic program), the uniforms decide.
 #ifndef HAS_BASE_COLOR_TEXTURE
 #define HAS_BASE_COLOR_TEXTURE (textureFlags.x > 0.5)
 #endif
@@ -72,6 +79,15 @@ uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (s
 #ifndef HAS_EMISSION
 #define HAS_EMISSION any(greaterThan(emissiveNormalScale.rgb, vec3(0.0)))
 #endif
+#ifndef HAS_OCCLUSION_TEXTURE
+#define HAS_OCCLUSION_TEXTURE (alphaUnlitOcclusion.w > 0.0)
+#endif
+#ifndef IS_UNLIT
+#define IS_UNLIT (alphaUnlitOcclusion.z > 0.5)
+#endif
+#ifndef ALPHA_MODE // 0 opaque, 1 mask, 2 blend
+#define ALPHA_MODE alphaUnlitOcclusion.x
+#endif
 #ifndef HAS_SHADOW
 #define HAS_SHADOW (lightDirection.w > 0.5)
 #endif
@@ -86,6 +102,8 @@ in vec3 vPosition;
 in vec3 vNormal;
 in vec4 vTangent;
 in vec2 vUv;
+in vec4 vColor; // COLOR_0, linear (white without)
+in vec2 vUv1;
 
 layout(location = 0) out vec4 fragColor;
 // The frame's second attachment, where lens effects are on (gles_renderer/scene/lens_effects.h):
@@ -138,8 +156,45 @@ vec3 environmentRadiance(vec3 d, float s)
            w.z * mapRadiance(uGlossy2Map, d) + w.w * mapRadiance(uMirrorMap, d);
 }
 
+// The uv texture slot `slot` reads: its uv set, transformed (identity without the extension).
+vec2 slotUv(int slot)
+{
+    vec4 row0 = uvTransforms[2 * slot];
+    vec3 uv = vec3(row0.w > 0.5 ? vUv1 : vUv, 1.0);
+    return vec2(dot(row0.xyz, uv), dot(uvTransforms[2 * slot + 1].xyz, uv));
+}
+
 void main()
 {
+    // Base colour and alpha first: a MASK cut-out ends here, before any other lookup.
+    vec4 baseTexel = vec4(1.0);
+    if (HAS_BASE_COLOR_TEXTURE)
+        baseTexel = texture(uBaseColor, slotUv(0));
+    vec3 base = baseTexel.rgb * vColor.rgb;
+    float alpha = baseColorFactor.a * baseTexel.a * vColor.a;
+    // RGBM environment maps keep their scale in alpha: BLEND is drawn as a cut-out there.
+    bool blendable = !(WRITES_RADIANCE && MAPS_RGBM);
+    float alphaMode = ALPHA_MODE;
+    if (alphaMode > 0.5) {
+        float cutoff = alphaMode < 1.5 ? alphaUnlitOcclusion.y : (blendable ? -1.0 : 0.5);
+        if (alpha < cutoff)
+            discard;
+    }
+    if (alphaMode < 1.5 || !blendable)
+        alpha = 1.0;
+    // KHR_materials_unlit: the colour is what the frame shows (sRGB-encoded as it is, no
+    // exposure or camera response), and the radiance environment maps see.
+    if (IS_UNLIT) {
+        vec3 colour = clamp(baseColorFactor.rgb * base, 0.0, 1.0);
+        vec4 mapTexel = encodeMapTexel(colour, MAPS_RGBM);
+        fragColor = WRITES_RADIANCE ? vec4(mapTexel.rgb, blendable ? alpha : mapTexel.a)
+                                        : vec4(encodeSrgb(colour), alpha);
+        fragRadiance = encodeMapTexel(colour * frameParams.w, MAPS_RGBM);
+        if (!MAPS_RGBM)
+            fragRadiance.a = alpha;
+        return;
+    }
+
     // The local frame, normal-mapped, then the tangent turned by the rotation map.
     vec3 n = normalize(vNormal);
     vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
@@ -148,7 +203,7 @@ void main()
     float handedness = (vTangent.w < 0.0 ? -1.0 : 1.0) * frameParams.x;
     vec3 b = cross(n, t) * handedness;
     if (HAS_NORMAL_MAP && hasTangent) {
-        vec3 tangentNormal = texture(uNormal, vUv).xyz * 2.0 - 1.0;
+        vec3 tangentNormal = texture(uNormal, slotUv(2)).xyz * 2.0 - 1.0;
         tangentNormal.xy *= emissiveNormalScale.w;
         n = normalize(mat3(t, b, n) * tangentNormal);
         t = normalize(t - n * dot(n, t));
@@ -159,10 +214,7 @@ void main()
         t = -t;
     }
 
-    // Absent textures are white: no lookup.
-    vec3 base = vec3(1.0);
-    if (HAS_BASE_COLOR_TEXTURE)
-        base = texture(uBaseColor, vUv).rgb;
+    // Absent textures are white: skip their lookups (uniform branches cost nothing).
     vec3 rhoD;
     vec3 rhoS;
     vec3 lobe;
@@ -172,19 +224,19 @@ void main()
         rhoD = baseColorFactor.rgb * base;
         rhoS = specularFactor.rgb;
         if (HAS_SECOND_TEXTURE)
-            rhoS *= texture(uSpecular, vUv).rgb;
+            rhoS *= texture(uSpecular, slotUv(5)).rgb;
         vec4 lobeTexel = vec4(1.0);
         if (HAS_LOBE_TEXTURE)
-            lobeTexel = texture(uLobe, vUv);
+            lobeTexel = texture(uLobe, slotUv(6));
         lobe = lobeFactor.xyz * lobeTexel.rgb;
         exponent = max(lobeFactor.w * lobeTexel.a, 1.0);
         rotation = specularFactor.w;
         if (HAS_ROTATION_TEXTURE)
-            rotation *= texture(uTangentRotation, vUv).r;
+            rotation *= texture(uTangentRotation, slotUv(7)).r;
     } else {
         vec3 mr = vec3(1.0);
         if (HAS_SECOND_TEXTURE)
-            mr = texture(uMetallicRoughness, vUv).rgb;
+            mr = texture(uMetallicRoughness, slotUv(1)).rgb;
         float metallic = clamp(metallicRoughness.x * mr.b, 0.0, 1.0);
         float roughness = clamp(metallicRoughness.y * mr.g, 0.0, 1.0);
         vec3 colour = baseColorFactor.rgb * base;
@@ -215,14 +267,24 @@ void main()
                                  kShadowFloor * irradiance);
         }
     }
-    vec3 diffuse = rhoD * irradiance;
-    vec3 specular = shade.specularWeight *
+    // glTF occlusion darkens the environment's light, diffuse and specular alike (not the
+    // emission): 1 + strength (texel - 1).
+    float occlusion = 1.0;
+    if (HAS_OCCLUSION_TEXTURE)
+        occlusion = 1.0 + alphaUnlitOcclusion.w * (texture(uOcclusion, slotUv(4)).r - 1.0);
+    vec3 diffuse = occlusion * rhoD * irradiance;
+    vec3 specular = occlusion * shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;
     if (HAS_EMISSION)
-        radiance += emissiveNormalScale.rgb * texture(uEmissive, vUv).rgb;
+        radiance += emissiveNormalScale.rgb * texture(uEmissive, slotUv(3)).rgb;
 
     fragColor = WRITES_RADIANCE ? encodeMapTexel(radiance, MAPS_RGBM)
                                     : vec4(encodeSrgb(cameraResponse(radiance * frameParams.w)), 1.0);
     fragRadiance = encodeMapTexel(radiance * frameParams.w, MAPS_RGBM);
+    // BLEND: the coverage goes out as alpha wherever the target is not RGBM-encoded.
+    if (!WRITES_RADIANCE || !MAPS_RGBM)
+        fragColor.a = alpha;
+    if (!MAPS_RGBM)
+        fragRadiance.a = alpha;
 }

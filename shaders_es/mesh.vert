@@ -20,11 +20,16 @@ layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec2 aUv;
 layout(location = 3) in vec4 aTangent;
+// glTF COLOR_0 and TEXCOORD_1; constant white and (0, 0) where the primitive has none.
+layout(location = 4) in vec4 aColor;
+layout(location = 5) in vec2 aUv1;
 
 out vec3 vPosition;
 out vec3 vNormal;
 out vec4 vTangent;
 out vec2 vUv;
+out vec4 vColor;
+out vec2 vUv1;
 
 void main()
 {
@@ -33,5 +38,7 @@ void main()
     vNormal = uNormalFromMesh * aNormal;
     vTangent = vec4(mat3(uCameraFromMesh) * aTangent.xyz, aTangent.w);
     vUv = aUv;
+    vColor = aColor;
+    vUv1 = aUv1;
     gl_Position = clipFromCamera * position;
 }

@@ -252,6 +252,29 @@ std::vector<float> readFloatAccessor(const tinygltf::Model& model, int accessorI
     return values;
 }
 
+std::vector<float> readQuantizedAccessor(const tinygltf::Model& model, int accessorIndex, int components)
+{
+    const std::string what = "accessor " + std::to_string(accessorIndex);
+    const tinygltf::Accessor& accessor = checkedAccessor(model, accessorIndex, components, what);
+    if (accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+        throw InputError(what + ": componentType 5125 (unsigned int) is not allowed here (float, or byte/short as "
+                                "KHR_mesh_quantization allows, expected)");
+    }
+    std::vector<float> values = decodeAccessor<float>(model, accessor, components, what);
+    if (!std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); })) {
+        throw InputError(what + ": holds a non-finite value");
+    }
+    return values;
+}
+
+int accessorComponents(const tinygltf::Model& model, int accessorIndex)
+{
+    if (accessorIndex < 0 || size_t(accessorIndex) >= model.accessors.size()) {
+        return 0;
+    }
+    return typeComponents(model.accessors[size_t(accessorIndex)].type);
+}
+
 std::vector<uint32_t> readIndexAccessor(const tinygltf::Model& model, int accessorIndex)
 {
     const std::string what = "index accessor " + std::to_string(accessorIndex);

@@ -23,6 +23,14 @@ inline constexpr size_t kMaxAccessorElements = size_t(1) << 24;
 std::vector<float> readFloatAccessor(const tinygltf::Model& model, int accessorIndex, int components,
                                      bool allowNormalizedIntegers);
 
+// KHR_mesh_quantization (positions, normals, tangents, texture coordinates, instance
+// transforms): FLOAT, or signed/unsigned byte/short components, normalized or not.
+std::vector<float> readQuantizedAccessor(const tinygltf::Model& model, int accessorIndex, int components);
+
+// The number of components per element of accessor `accessorIndex` (1 for SCALAR, 3 for
+// VEC3...), 0 when it does not exist or its type is unknown.
+int accessorComponents(const tinygltf::Model& model, int accessorIndex);
+
 // An index accessor: SCALAR of unsigned byte, short or int.
 std::vector<uint32_t> readIndexAccessor(const tinygltf::Model& model, int accessorIndex);
 

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include "core/error.h"
@@ -68,11 +69,12 @@ public:
         if (size_t(textureIndex) >= model_.textures.size()) {
             throw InputError(what + ": texture " + std::to_string(textureIndex) + " does not exist");
         }
-        if (texCoord != 0) {
+        if (texCoord > 1) {
             LUMAR_LOG(Render, Warn) << file_ << ": " << what << " uses TEXCOORD_" << texCoord
-                                    << "; only TEXCOORD_0 is loaded, so it is sampled with that";
+                                    << "; lumar loads TEXCOORD_0 and TEXCOORD_1, so it is sampled with TEXCOORD_0";
         }
-        const int imageIndex = model_.textures[size_t(textureIndex)].source;
+        const GltfSampler sampler = samplerOf(model_.textures[size_t(textureIndex)].sampler);
+        const int imageIndex = imageOf(model_.textures[size_t(textureIndex)]);
         if (imageIndex < 0) {
             LUMAR_LOG(Render, Warn) << file_ << ": " << what << ": texture " << textureIndex
                                     << " has no image lumar can read (an image extension?); ignored";
@@ -82,7 +84,7 @@ public:
             throw InputError(what + ": texture " + std::to_string(textureIndex) + " uses image " +
                              std::to_string(imageIndex) + ", which does not exist");
         }
-        const auto key = std::make_pair(imageIndex, srgb);
+        const auto key = std::make_tuple(imageIndex, srgb, sampler);
         if (const auto found = built_.find(key); found != built_.end()) {
             return found->second;
         }
@@ -101,19 +103,135 @@ public:
             texture.srgb = srgb;
             index = int(textures_.size());
             textures_.push_back(std::move(texture));
+            samplers_.push_back(sampler);
         }
         built_.emplace(key, index);
         return index;
     }
 
     std::vector<GltfTexture> take() { return std::move(textures_); }
+    std::vector<GltfSampler> takeSamplers() { return std::move(samplers_); }
 
 private:
     const tinygltf::Model& model_;
     const std::string& file_;
-    std::map<std::pair<int, bool>, int> built_;
+    // The texture's image: its source, or EXT_texture_webp's where the file keeps the WebP
+    // image in the extension (a fallback PNG in source is then ignored: WebP is decoded).
+    static int imageOf(const tinygltf::Texture& texture)
+    {
+        const auto webp = texture.extensions.find("EXT_texture_webp");
+        if (webp != texture.extensions.end() && webp->second.IsObject() && webp->second.Has("source") &&
+            webp->second.Get("source").IsInt()) {
+            return webp->second.Get("source").GetNumberAsInt();
+        }
+        return texture.source;
+    }
+
+    // glTF 2.0 §5.26: wrap modes and filters as GL enums; anything else is refused, naming
+    // the sampler (a wrong value would silently draw the texture wrapped the wrong way).
+    [[nodiscard]] GltfSampler samplerOf(int samplerIndex) const
+    {
+        GltfSampler out;
+        if (samplerIndex < 0) {
+            return out;
+        }
+        const std::string what = "sampler " + std::to_string(samplerIndex);
+        if (size_t(samplerIndex) >= model_.samplers.size()) {
+            throw InputError(what + " does not exist");
+        }
+        const tinygltf::Sampler& sampler = model_.samplers[size_t(samplerIndex)];
+        const auto wrap = [&](int value, const char* field) {
+            if (value != 10497 && value != 33071 && value != 33648) {
+                throw InputError(what + ": " + field + " " + std::to_string(value) +
+                                 " is not a glTF wrap mode (10497 REPEAT, 33071 CLAMP_TO_EDGE, 33648 "
+                                 "MIRRORED_REPEAT)");
+            }
+            return value;
+        };
+        out.wrapS = wrap(sampler.wrapS, "wrapS");
+        out.wrapT = wrap(sampler.wrapT, "wrapT");
+        const int minFilter = sampler.minFilter;
+        if (minFilter != -1 && minFilter != 9728 && minFilter != 9729 && !(minFilter >= 9984 && minFilter <= 9987)) {
+            throw InputError(what + ": minFilter " + std::to_string(minFilter) +
+                             " is not a glTF filter (9728 NEAREST, 9729 LINEAR, 9984..9987 mipmapped)");
+        }
+        out.minFilter = std::max(minFilter, 0);
+        const int magFilter = sampler.magFilter;
+        if (magFilter != -1 && magFilter != 9728 && magFilter != 9729) {
+            throw InputError(what + ": magFilter " + std::to_string(magFilter) +
+                             " is not a glTF filter (9728 NEAREST, 9729 LINEAR)");
+        }
+        out.magFilter = std::max(magFilter, 0);
+        return out;
+    }
+
+    std::map<std::tuple<int, bool, GltfSampler>, int> built_;
     std::vector<GltfTexture> textures_;
+    std::vector<GltfSampler> samplers_;
 };
+
+// A textureInfo's uv set and KHR_texture_transform (offset, rotation, scale, texCoord).
+GltfUvTransform uvTransform(int texCoord, const tinygltf::ExtensionMap& extensions, const std::string& what)
+{
+    GltfUvTransform out;
+    out.texCoord = texCoord == 1 ? 1 : 0;
+    const auto found = extensions.find("KHR_texture_transform");
+    if (found == extensions.end()) {
+        return out;
+    }
+    const std::string where = what + " KHR_texture_transform";
+    const tinygltf::Value& t = found->second;
+    if (!t.IsObject()) {
+        throw InputError(where + ": expected an object");
+    }
+    const auto pair = [&](const char* field, glm::vec2 fallback) {
+        if (!t.Has(field)) {
+            return fallback;
+        }
+        const tinygltf::Value& v = t.Get(field);
+        if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber() ||
+            !(std::abs(v.Get(0).GetNumberAsDouble()) <= 1e6) || !(std::abs(v.Get(1).GetNumberAsDouble()) <= 1e6)) {
+            throw InputError(where + " " + field + ": expected 2 numbers within [-1e6, 1e6]");
+        }
+        return glm::vec2(float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()));
+    };
+    out.offset = pair("offset", out.offset);
+    out.scale = pair("scale", out.scale);
+    if (t.Has("rotation")) {
+        const tinygltf::Value& r = t.Get("rotation");
+        if (!r.IsNumber() || !(std::abs(r.GetNumberAsDouble()) <= 1e6)) {
+            throw InputError(where + " rotation: expected a number within [-1e6, 1e6]");
+        }
+        out.rotation = float(r.GetNumberAsDouble());
+    }
+    if (t.Has("texCoord")) {
+        const tinygltf::Value& c = t.Get("texCoord");
+        if (!c.IsInt() || c.GetNumberAsInt() < 0) {
+            throw InputError(where + " texCoord: expected a non-negative integer");
+        }
+        out.texCoord = c.GetNumberAsInt() == 1 ? 1 : 0;
+    }
+    return out;
+}
+
+// alphaMode and alphaCutoff (glTF 2.0 §3.9.4), KHR_materials_unlit, occlusion strength.
+void readAlphaAndUnlit(const tinygltf::Material& source, const std::string& what, GltfMaterial& material)
+{
+    if (source.alphaMode == "MASK") {
+        material.alphaMode = GltfAlphaMode::Mask;
+    } else if (source.alphaMode == "BLEND") {
+        material.alphaMode = GltfAlphaMode::Blend;
+    } else if (source.alphaMode != "OPAQUE" && !source.alphaMode.empty()) {
+        throw InputError(what + " alphaMode \"" + source.alphaMode + "\" is not OPAQUE, MASK or BLEND");
+    }
+    if (!(source.alphaCutoff >= 0.0 && source.alphaCutoff <= 1e6)) {
+        throw InputError(what + " alphaCutoff is not a number within [0, 1e6]");
+    }
+    material.alphaCutoff = float(source.alphaCutoff);
+    material.unlit = source.extensions.count("KHR_materials_unlit") != 0;
+    material.occlusionStrength =
+        float(finiteFactor(source.occlusionTexture.strength, 0.0, 1.0, what + " occlusionTexture.strength"));
+}
 
 // KHR_materials_emissive_strength: a factor on emissiveFactor that lets emission exceed 1.
 float emissiveStrength(const tinygltf::Material& material, const std::string& what)
@@ -279,16 +397,20 @@ void readLafortuneExtension(const tinygltf::Value& extension, const std::string&
     p.fresnelPhi = r.number("fresnelPhi", 0.0, 1.0, true).value_or(p.fresnelPhi);
     const std::optional<float> rotation = r.number("tangentRotation", 0.0, 1.0, false);
 
-    const auto resolve = [&](std::string_view field, bool srgb, int current) {
+    const auto resolve = [&](std::string_view field, bool srgb, int current, GltfTextureSlot slot) {
         const auto info = r.texture(field);
+        if (info) {
+            material.uvTransforms[size_t(slot)] = GltfUvTransform{};
+            material.uvTransforms[size_t(slot)].texCoord = info->texCoord == 1 ? 1 : 0;
+        }
         return info ? textures.resolve(info->index, info->texCoord, srgb, r.what(field)) : current;
     };
     // rho_d's texture takes the base-colour slot: the shader multiplies the same sRGB texel
     // by rho_d instead of by the base colour.
-    material.baseColorTexture = resolve("diffuseTexture", true, material.baseColorTexture);
-    material.specularTexture = resolve("specularTexture", true, -1);
-    material.lobeTexture = resolve("lobeTexture", false, -1);
-    material.tangentRotationTexture = resolve("tangentRotationTexture", false, -1);
+    material.baseColorTexture = resolve("diffuseTexture", true, material.baseColorTexture, GltfTextureSlot::BaseColor);
+    material.specularTexture = resolve("specularTexture", true, -1, GltfTextureSlot::Specular);
+    material.lobeTexture = resolve("lobeTexture", false, -1, GltfTextureSlot::Lobe);
+    material.tangentRotationTexture = resolve("tangentRotationTexture", false, -1, GltfTextureSlot::TangentRotation);
     // The rotation is factor x texel; the conversion's factor 0 would hide the texture, so a
     // rotation texture without a factor gets 1.
     p.tangentRotation = rotation.value_or(material.tangentRotationTexture >= 0 ? 1.0f : 0.0f);
@@ -331,12 +453,28 @@ ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::str
             textures.resolve(source.normalTexture.index, source.normalTexture.texCoord, false, what + " normalTexture");
         material.emissiveTexture = textures.resolve(source.emissiveTexture.index, source.emissiveTexture.texCoord, true,
                                                     what + " emissiveTexture");
+        material.occlusionTexture = textures.resolve(source.occlusionTexture.index, source.occlusionTexture.texCoord,
+                                                     false, what + " occlusionTexture");
+        const auto slot = [&](GltfTextureSlot s) -> GltfUvTransform& { return material.uvTransforms[size_t(s)]; };
+        slot(GltfTextureSlot::BaseColor) =
+            uvTransform(pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, what + " baseColorTexture");
+        slot(GltfTextureSlot::MetallicRoughness) =
+            uvTransform(pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions,
+                        what + " metallicRoughnessTexture");
+        slot(GltfTextureSlot::Normal) =
+            uvTransform(source.normalTexture.texCoord, source.normalTexture.extensions, what + " normalTexture");
+        slot(GltfTextureSlot::Emissive) =
+            uvTransform(source.emissiveTexture.texCoord, source.emissiveTexture.extensions, what + " emissiveTexture");
+        slot(GltfTextureSlot::Occlusion) = uvTransform(source.occlusionTexture.texCoord,
+                                                       source.occlusionTexture.extensions, what + " occlusionTexture");
+        readAlphaAndUnlit(source, what, material);
         if (const auto lafortune = source.extensions.find(kLafortuneExtension); lafortune != source.extensions.end()) {
             readLafortuneExtension(lafortune->second, materialLabel(m, source.name), material, textures);
         }
         out.materials.push_back(std::move(material));
     }
     out.textures = textures.take();
+    out.samplers = textures.takeSamplers();
     return out;
 }
 

@@ -14,6 +14,7 @@ namespace lumar::gltf {
 struct ConvertedMaterials {
     std::vector<GltfMaterial> materials; // one per glTF material, same order
     std::vector<GltfTexture> textures;   // only the images some material uses
+    std::vector<GltfSampler> samplers;   // parallel to textures
 };
 
 // metallic-roughness factors and textures, normal texture and scale, emissive factor (times

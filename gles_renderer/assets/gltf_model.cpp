@@ -29,6 +29,13 @@ constexpr size_t kMaxModelTriangles = size_t(1) << 22;
 constexpr size_t kMaxModelVertices = size_t(1) << 22;
 
 const char* const kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength", "LUMAR_materials_lafortune"};
+// Honoured since issue 20 (kept apart so the list above merges cleanly).
+const char* const kSupportedRequiredExtensionsStatic[] = {"KHR_texture_transform", "KHR_mesh_quantization",
+                                                          "KHR_materials_unlit", "EXT_mesh_gpu_instancing",
+                                                          "EXT_texture_webp"};
+// EXT_mesh_gpu_instancing expands each instance into copies of the node's primitives, each a
+// draw call: far more instances than a kiosk model has, few enough draw calls to stay cheap.
+constexpr size_t kMaxInstancesPerNode = 4096;
 
 template <typename Vec> std::vector<Vec> toVectors(const std::vector<float>& flat)
 {
@@ -43,8 +50,11 @@ template <typename Vec> std::vector<Vec> toVectors(const std::vector<float>& fla
 }
 
 // Reads an optional vertex attribute; empty when the primitive does not have it.
+// `quantized`: KHR_mesh_quantization's byte/short types too (readQuantizedAccessor); else
+// float, or with `allowNormalizedIntegers` normalized unsigned byte/short.
 std::vector<float> readAttribute(const tinygltf::Model& model, const tinygltf::Primitive& primitive, const char* name,
-                                 int components, bool allowNormalizedIntegers, size_t vertexCount)
+                                 int components, bool allowNormalizedIntegers, size_t vertexCount,
+                                 bool quantized = false)
 {
     const auto found = primitive.attributes.find(name);
     if (found == primitive.attributes.end()) {
@@ -52,7 +62,8 @@ std::vector<float> readAttribute(const tinygltf::Model& model, const tinygltf::P
     }
     std::vector<float> values;
     try {
-        values = gltf::readFloatAccessor(model, found->second, components, allowNormalizedIntegers);
+        values = quantized ? gltf::readQuantizedAccessor(model, found->second, components)
+                           : gltf::readFloatAccessor(model, found->second, components, allowNormalizedIntegers);
     } catch (const InputError& e) {
         throw InputError(std::string(name) + ": " + e.what());
     }
@@ -133,6 +144,25 @@ std::vector<glm::vec4> vertexTangents(const std::vector<float>& fromFile, const 
     return tangents;
 }
 
+// COLOR_0 (glTF 2.0 §3.7.2.1): VEC3 or VEC4 of float or normalized unsigned byte/short,
+// linear; rgb gets alpha 1. Empty when absent.
+std::vector<glm::vec4> vertexColors(const tinygltf::Model& model, const tinygltf::Primitive& source, size_t vertexCount)
+{
+    const auto found = source.attributes.find("COLOR_0");
+    if (found == source.attributes.end()) {
+        return {};
+    }
+    const int components = gltf::accessorComponents(model, found->second) == 3 ? 3 : 4;
+    const std::vector<float> flat = readAttribute(model, source, "COLOR_0", components, true, vertexCount);
+    std::vector<glm::vec4> colors(vertexCount, glm::vec4(1.0f));
+    for (size_t i = 0; i < vertexCount; ++i) {
+        for (int c = 0; c < components; ++c) {
+            colors[i][c] = std::clamp(flat[i * size_t(components) + size_t(c)], 0.0f, 1.0f);
+        }
+    }
+    return colors;
+}
+
 // One mesh primitive as lumar data (modelFromMesh left at identity), or nothing when it
 // cannot be drawn as triangles.
 std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& source,
@@ -140,8 +170,9 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
 {
     const int mode = source.mode < 0 ? TINYGLTF_MODE_TRIANGLES : source.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-        LUMAR_LOG(Render, Warn) << file << ": " << what << " has mode " << mode
-                                << " (points or lines), skipped: only triangles are drawn";
+        LUMAR_LOG(Render, Warn) << file << ": " << what << " draws "
+                                << (mode == TINYGLTF_MODE_POINTS ? "points" : "lines") << " (mode " << mode
+                                << "), skipped: lumar draws only triangles";
         return std::nullopt;
     }
     if (source.attributes.find("POSITION") == source.attributes.end()) {
@@ -150,7 +181,7 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
     }
     std::vector<float> positions;
     try {
-        positions = gltf::readFloatAccessor(model, source.attributes.at("POSITION"), 3, false);
+        positions = gltf::readQuantizedAccessor(model, source.attributes.at("POSITION"), 3);
     } catch (const InputError& e) {
         throw InputError(std::string("POSITION: ") + e.what());
     }
@@ -184,14 +215,16 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
     primitive.material = source.material;
     primitive.positions = toVectors<glm::vec3>(positions);
     primitive.indices = std::move(indices);
-    primitive.normals = vertexNormals(readAttribute(model, source, "NORMAL", 3, false, vertexCount),
+    primitive.normals = vertexNormals(readAttribute(model, source, "NORMAL", 3, false, vertexCount, true),
                                       primitive.positions, primitive.indices);
-    primitive.uvs = toVectors<glm::vec2>(readAttribute(model, source, "TEXCOORD_0", 2, true, vertexCount));
+    primitive.uvs = toVectors<glm::vec2>(readAttribute(model, source, "TEXCOORD_0", 2, true, vertexCount, true));
     if (primitive.uvs.empty()) {
         primitive.uvs.assign(vertexCount, glm::vec2(0.0f));
     }
     primitive.tangents =
-        vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount), primitive, file, what);
+        vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount, true), primitive, file, what);
+    primitive.uvs1 = toVectors<glm::vec2>(readAttribute(model, source, "TEXCOORD_1", 2, true, vertexCount, true));
+    primitive.colors = vertexColors(model, source, vertexCount);
     return primitive;
 }
 
@@ -311,7 +344,11 @@ public:
                     }
                 }
             }
-            if (node.mesh >= 0) {
+            if (node.mesh >= 0 && node.extensions.count("EXT_mesh_gpu_instancing") != 0) {
+                for (const glm::dmat4& nodeFromInstance : instanceTransforms(node, what)) {
+                    appendMesh(node.mesh, glm::mat4(checkedFloatRange(modelFromNode * nodeFromInstance, what)), out);
+                }
+            } else if (node.mesh >= 0) {
                 appendMesh(node.mesh, glm::mat4(modelFromNode), out);
             } else if (node.mesh < -1) {
                 throw InputError(what + ": mesh " + std::to_string(node.mesh) + " does not exist");
@@ -324,6 +361,83 @@ public:
     }
 
 private:
+    static glm::dmat4 checkedFloatRange(const glm::dmat4& m, const std::string& what)
+    {
+        for (int c = 0; c < 4; ++c) {
+            for (int r = 0; r < 4; ++r) {
+                if (!(std::abs(m[c][r]) <= double(std::numeric_limits<float>::max()))) {
+                    throw InputError(what + ": an instance transform takes the model beyond floating-point range");
+                }
+            }
+        }
+        return m;
+    }
+
+    // EXT_mesh_gpu_instancing: one transform per instance from the TRANSLATION, ROTATION
+    // (unit quaternion x, y, z, w) and SCALE accessors, each optional, all of one count.
+    std::vector<glm::dmat4> instanceTransforms(const tinygltf::Node& node, const std::string& what) const
+    {
+        const std::string where = what + " EXT_mesh_gpu_instancing";
+        const tinygltf::Value& extension = node.extensions.at("EXT_mesh_gpu_instancing");
+        if (!extension.IsObject() || !extension.Has("attributes") || !extension.Get("attributes").IsObject()) {
+            throw InputError(where + ": expected an object with \"attributes\"");
+        }
+        const tinygltf::Value& attributes = extension.Get("attributes");
+        const auto read = [&](const char* name, int components) -> std::vector<float> {
+            if (!attributes.Has(name)) {
+                return {};
+            }
+            const tinygltf::Value& index = attributes.Get(name);
+            if (!index.IsInt()) {
+                throw InputError(where + " " + name + ": expected an accessor index");
+            }
+            try {
+                return gltf::readQuantizedAccessor(model_, index.GetNumberAsInt(), components);
+            } catch (const InputError& e) {
+                throw InputError(where + " " + name + ": " + e.what());
+            }
+        };
+        const std::vector<float> translations = read("TRANSLATION", 3);
+        const std::vector<float> rotations = read("ROTATION", 4);
+        const std::vector<float> scales = read("SCALE", 3);
+        size_t count = 0;
+        for (const auto& [values, n] : {std::pair{&translations, 3}, std::pair{&rotations, 4}, std::pair{&scales, 3}}) {
+            if (values->empty()) {
+                continue;
+            }
+            const size_t elements = values->size() / size_t(n);
+            if (count != 0 && elements != count) {
+                throw InputError(where + ": its attributes have different counts (" + std::to_string(count) + " and " +
+                                 std::to_string(elements) + ")");
+            }
+            count = elements;
+        }
+        if (count > kMaxInstancesPerNode) {
+            throw InputError(where + ": " + std::to_string(count) + " instances exceed the limit of " +
+                             std::to_string(kMaxInstancesPerNode));
+        }
+        std::vector<glm::dmat4> transforms(count, glm::dmat4(1.0));
+        for (size_t i = 0; i < count; ++i) {
+            glm::dmat4& m = transforms[i];
+            if (!translations.empty()) {
+                m = glm::translate(m,
+                                   glm::dvec3(translations[3 * i], translations[3 * i + 1], translations[3 * i + 2]));
+            }
+            if (!rotations.empty()) {
+                glm::dquat q(rotations[4 * i + 3], rotations[4 * i], rotations[4 * i + 1], rotations[4 * i + 2]);
+                const double length = glm::length(q);
+                if (!(length > 1e-12)) {
+                    throw InputError(where + " ROTATION " + std::to_string(i) + " is not a unit quaternion");
+                }
+                m = m * glm::mat4_cast(q / length);
+            }
+            if (!scales.empty()) {
+                m = glm::scale(m, glm::dvec3(scales[3 * i], scales[3 * i + 1], scales[3 * i + 2]));
+            }
+        }
+        return transforms;
+    }
+
     void appendMesh(int meshIndex, const glm::mat4& modelFromMesh, std::vector<GltfPrimitive>& out)
     {
         if (size_t(meshIndex) >= model_.meshes.size()) {
@@ -368,8 +482,10 @@ void checkRequiredExtensions(const tinygltf::Model& model)
 {
     for (const std::string& extension : model.extensionsRequired) {
         if (std::find(std::begin(kSupportedRequiredExtensions), std::end(kSupportedRequiredExtensions), extension) ==
-            std::end(kSupportedRequiredExtensions)) {
-            throw InputError("requires the unsupported extension " + extension);
+                std::end(kSupportedRequiredExtensions) &&
+            std::find(std::begin(kSupportedRequiredExtensionsStatic), std::end(kSupportedRequiredExtensionsStatic),
+                      extension) == std::end(kSupportedRequiredExtensionsStatic)) {
+            throw InputError("requires extension " + extension + ", which lumar does not support");
         }
     }
 }
@@ -382,6 +498,14 @@ std::string oneLine(std::string text)
 }
 
 } // namespace
+
+std::array<glm::vec3, 2> GltfUvTransform::rows() const
+{
+    // KHR_texture_transform: translation * rotation * scale, the rotation matrix as the
+    // extension writes it ((cos, sin), (-sin, cos) by rows).
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    return {glm::vec3(c * scale.x, s * scale.y, offset.x), glm::vec3(-s * scale.x, c * scale.y, offset.y)};
+}
 
 size_t GltfModel::triangleCount() const
 {
@@ -404,6 +528,7 @@ GltfModel loadGltfModel(const std::filesystem::path& file)
         gltf::ConvertedMaterials materials = gltf::convertMaterials(source, fileName);
         model.materials = std::move(materials.materials);
         model.textures = std::move(materials.textures);
+        model.textureSamplers = std::move(materials.samplers);
         model.primitives = SceneFlattener(source, fileName).flatten();
         if (model.primitives.empty()) {
             throw InputError("the scene holds no triangles");

@@ -2,6 +2,7 @@
 // Node transforms are flattened into each primitive's modelFromMesh matrix.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -13,10 +14,49 @@
 
 namespace lumar {
 
+// A glTF sampler's state, as the GL enum values glTF uses (glTF 2.0 §5.26). minFilter 0: the
+// file names none, so lumar's default (trilinear) applies; magFilter 0 likewise (linear).
+struct GltfSampler {
+    int wrapS = 10497; // GL_REPEAT; GL_CLAMP_TO_EDGE 33071, GL_MIRRORED_REPEAT 33648
+    int wrapT = 10497;
+    int minFilter = 0; // GL_NEAREST 9728, GL_LINEAR 9729, GL_*_MIPMAP_* 9984..9987
+    int magFilter = 0; // GL_NEAREST or GL_LINEAR
+    auto operator<=>(const GltfSampler&) const = default;
+};
+
 struct GltfTexture {
     Image8 image;      // 4 channels RGBA, row 0 = top of the image (glTF's uv (0,0))
     bool srgb = false; // base colour and emissive are sRGB-encoded, the rest linear
 };
+
+// Which uv set a material's texture reads and how the uv is transformed first
+// (textureInfo.texCoord, KHR_texture_transform): uv' = offset + R(rotation) * (scale * uv).
+struct GltfUvTransform {
+    int texCoord = 0; // 0: TEXCOORD_0, 1: TEXCOORD_1
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f; // radians, counter-clockwise in uv space as the extension defines
+    glm::vec2 scale{1.0f};
+    // The two rows of the 2x3 matrix taking (u, v, 1) to the transformed uv.
+    [[nodiscard]] std::array<glm::vec3, 2> rows() const;
+};
+
+// The texture slots of a material, for GltfMaterial::uvTransforms (and the shader's order).
+enum class GltfTextureSlot {
+    BaseColor,
+    MetallicRoughness,
+    Normal,
+    Emissive,
+    Occlusion,
+    Specular,
+    Lobe,
+    TangentRotation,
+    Count
+};
+inline constexpr size_t kGltfTextureSlots = size_t(GltfTextureSlot::Count);
+
+// glTF 2.0 §3.9.4: OPAQUE ignores alpha; MASK discards below alphaCutoff; BLEND mixes with
+// what lies behind (drawn after the opaque primitives, back to front, without depth writes).
+enum class GltfAlphaMode { Opaque, Mask, Blend };
 
 // The paper's shading parameters (DESIGN.md §6.4): McAllister's one-lobe Lafortune SBRDF in
 // the local frame (T, B, N) plus a tangent rotation and the paper's Fresnel factor. Every
@@ -52,6 +92,13 @@ struct GltfMaterial {
     int normalTexture = -1;
     int emissiveTexture = -1;
     bool doubleSided = false;
+    // Per GltfTextureSlot: uv set and KHR_texture_transform.
+    std::array<GltfUvTransform, kGltfTextureSlots> uvTransforms{};
+    int occlusionTexture = -1;      // linear r: ambient occlusion
+    float occlusionStrength = 1.0f; // 1 + strength * (texel - 1) darkens the environment light
+    bool unlit = false;             // KHR_materials_unlit: base colour x vertex colour x texel
+    GltfAlphaMode alphaMode = GltfAlphaMode::Opaque;
+    float alphaCutoff = 0.5f; // MASK only
 };
 
 struct GltfPrimitive {
@@ -60,6 +107,8 @@ struct GltfPrimitive {
     std::vector<glm::vec3> normals;  // generated (flat/area-weighted) when absent
     std::vector<glm::vec2> uvs;      // zeros when absent
     std::vector<glm::vec4> tangents; // generated from uvs when absent (w = handedness)
+    std::vector<glm::vec2> uvs1;     // TEXCOORD_1; empty when absent (read as zeros)
+    std::vector<glm::vec4> colors;   // COLOR_0 as linear rgba; empty when absent (white)
     std::vector<uint32_t> indices;   // triangles
     int material = -1;               // -1: default material
 };
@@ -69,6 +118,9 @@ struct GltfModel {
     std::vector<GltfPrimitive> primitives;
     std::vector<GltfMaterial> materials;
     std::vector<GltfTexture> textures;
+    // Parallel to textures (kept apart so GltfTexture stays a two-member aggregate); a
+    // texture without an entry is sampled with the default sampler.
+    std::vector<GltfSampler> textureSamplers;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space (after node transforms)
     [[nodiscard]] size_t triangleCount() const;
 };

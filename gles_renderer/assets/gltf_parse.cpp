@@ -12,12 +12,14 @@
 #include <vector>
 
 #include <stb_image.h>
+#include <webp/decode.h>
 
 #include "core/error.h"
 #include "core/file_bytes.h"
 #include "core/log.h"
 #include "gles_renderer/assets/gltf_compression.h"
 #include "gles_renderer/assets/gltf_json_check.h"
+#include "gles_renderer/assets/gltf_parse_messages.h"
 
 namespace lumar::gltf {
 namespace {
@@ -86,54 +88,92 @@ bool hasGlbExtension(const std::filesystem::path& file)
 // views before images).
 struct ImageLoaderContext {
     const tinygltf::Model* model = nullptr;
+    std::string error; // the first image problem, in our words (tinygltf's report is not)
 };
+
+bool failImage(ImageLoaderContext* context, std::string* err, const std::string& message)
+{
+    if (context->error.empty()) {
+        context->error = message;
+    }
+    *err += message + "\n";
+    return false;
+}
+
+bool startsWith(const unsigned char* bytes, int size, std::string_view magic, int offset = 0)
+{
+    return size >= offset + int(magic.size()) && std::memcmp(bytes + offset, magic.data(), magic.size()) == 0;
+}
+
+// EXT_texture_webp's images (libwebp; stb_image has no WebP decoder) as 8-bit RGBA.
+bool decodeWebp(tinygltf::Image* image, const std::string& what, const unsigned char* bytes, int size,
+                ImageLoaderContext* context, std::string* err)
+{
+    int width = 0, height = 0;
+    if (!WebPGetInfo(bytes, size_t(size), &width, &height)) {
+        return failImage(context, err, what + " is not a valid WebP image");
+    }
+    if (width > kMaxImageSide || height > kMaxImageSide) {
+        return failImage(context, err,
+                         what + ": " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
+                             std::to_string(kMaxImageSide) + " pixels a side");
+    }
+    image->image.resize(size_t(width) * size_t(height) * 4);
+    if (WebPDecodeRGBAInto(bytes, size_t(size), image->image.data(), image->image.size(), width * 4) == nullptr) {
+        image->image.clear();
+        return failImage(context, err, what + ": the WebP data cannot be decoded");
+    }
+    image->width = width;
+    image->height = height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    return true;
+}
 
 // tinygltf 2.7 passes &buffer.data[view.byteOffset] and view.byteLength without checking
 // that the view fits in the buffer; check that, and the image size, before decoding.
 bool loadImageChecked(tinygltf::Image* image, const int imageIndex, std::string* err, std::string* warn,
                       int requiredWidth, int requiredHeight, const unsigned char* bytes, int size, void* userData)
 {
-    const auto* context = static_cast<const ImageLoaderContext*>(userData);
+    auto* context = static_cast<ImageLoaderContext*>(userData);
     const std::string what = "image " + std::to_string(imageIndex);
     if (image->bufferView >= 0) {
         const tinygltf::Model& model = *context->model;
         if (size_t(image->bufferView) >= model.bufferViews.size()) {
-            *err += what + ": bufferView " + std::to_string(image->bufferView) + " does not exist\n";
-            return false;
+            return failImage(context, err,
+                             what + ": bufferView " + std::to_string(image->bufferView) + " does not exist");
         }
         const tinygltf::BufferView& view = model.bufferViews[size_t(image->bufferView)];
         if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size() ||
             view.byteOffset > model.buffers[size_t(view.buffer)].data.size() ||
             view.byteLength > model.buffers[size_t(view.buffer)].data.size() - view.byteOffset ||
             view.byteLength > size_t(std::numeric_limits<int>::max())) {
-            *err += what + ": bufferView " + std::to_string(image->bufferView) + " lies outside its buffer\n";
-            return false;
+            return failImage(context, err,
+                             what + ": bufferView " + std::to_string(image->bufferView) + " lies outside its buffer");
         }
     }
     if (bytes == nullptr || size <= 0) {
-        *err += what + ": no image data\n";
-        return false;
+        return failImage(context, err, what + ": no image data");
+    }
+    if (startsWith(bytes, size, "RIFF") && startsWith(bytes, size, "WEBP", 8)) {
+        return decodeWebp(image, what, bytes, size, context, err);
     }
     int width = 0, height = 0, components = 0;
-    if (stbi_info_from_memory(bytes, size, &width, &height, &components) &&
-        (width > kMaxImageSide || height > kMaxImageSide)) {
-        *err += what + ": " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
-                std::to_string(kMaxImageSide) + " pixels a side\n";
-        return false;
+    if (!stbi_info_from_memory(bytes, size, &width, &height, &components)) {
+        if (startsWith(bytes, size, "\xABKTX 20")) {
+            return failImage(context, err, what + " is a KTX2 image (KHR_texture_basisu), which lumar does not decode");
+        }
+        return failImage(context, err, what + " is not an image lumar can decode (PNG, JPEG or WebP)");
+    }
+    if (width > kMaxImageSide || height > kMaxImageSide) {
+        return failImage(context, err,
+                         what + ": " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
+                             std::to_string(kMaxImageSide) + " pixels a side");
     }
     // tinygltf's own decoder (stb_image); its options struct is not in the public header, and
     // without one it expands every image to 4 components (8 or 16 bits), which suits us.
     return tinygltf::LoadImageData(image, imageIndex, err, warn, requiredWidth, requiredHeight, bytes, size, nullptr);
-}
-
-std::string firstLine(std::string_view text)
-{
-    const size_t start = text.find_first_not_of(" \t\r\n");
-    if (start == std::string_view::npos) {
-        return {};
-    }
-    text.remove_prefix(start);
-    return std::string(text.substr(0, text.find_first_of("\r\n")));
 }
 
 void logLines(const std::filesystem::path& file, std::string_view text)
@@ -251,12 +291,13 @@ tinygltf::Model parseGltfFile(const std::filesystem::path& file)
                                                  unsigned(input.size()), baseDir);
     } catch (const std::exception& e) {
         // tinygltf only guards its JSON parse; anything else it throws is still about the file.
-        throw InputError(std::string("glTF parser failed: ") + e.what());
+        throw InputError(parseFailureInOurWords(e.what(), jsonText(bytes, binary), binary));
     }
     logLines(file, warn);
     if (!ok) {
-        const std::string reason = firstLine(err);
-        throw InputError(reason.empty() ? std::string("not a valid glTF file") : reason);
+        // Our own image checks speak first; tinygltf's wording never reaches the user.
+        throw InputError(!imageContext.error.empty() ? imageContext.error
+                                                     : parseFailureInOurWords(err, jsonText(bytes, binary), binary));
     }
     logLines(file, err); // tinygltf reports some recoverable problems as errors and goes on
     decodeCompressedData(model);

@@ -78,6 +78,10 @@ GltfPrimitive simplifyPrimitive(const GltfPrimitive& primitive, float maxError)
     out.normals = remapped(primitive.normals, remap, kept);
     out.uvs = remapped(primitive.uvs, remap, kept);
     out.tangents = remapped(primitive.tangents, remap, kept);
+    if (primitive.uvs1.size() == n)
+        out.uvs1 = remapped(primitive.uvs1, remap, kept);
+    if (primitive.colors.size() == n)
+        out.colors = remapped(primitive.colors, remap, kept);
     return out;
 }
 
@@ -91,6 +95,7 @@ GltfModel makeProxyModel(const GltfModel& model, int cellsAlongLongestSide)
     proxy.file = model.file;
     proxy.materials = model.materials;
     proxy.textures = model.textures;
+    proxy.textureSamplers = model.textureSamplers;
     proxy.boundsMin = model.boundsMin;
     proxy.boundsMax = model.boundsMax;
     for (const GltfPrimitive& p : model.primitives) {

@@ -1,5 +1,6 @@
 #include "gles_renderer/scene/gpu_model.h"
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -41,6 +42,25 @@ struct Vertex {
 };
 static_assert(sizeof(Vertex) == 48, "Vertex must be tightly packed for the attribute offsets");
 
+struct ExtraVertex {
+    glm::vec4 color;
+    glm::vec2 uv1;
+};
+static_assert(sizeof(ExtraVertex) == 24, "ExtraVertex must be tightly packed for the attribute offsets");
+
+// glTF sampler state on an uploaded texture (0: lumar's default, trilinear and linear).
+void applySampler(const GlTexture& texture, const GltfSampler& sampler)
+{
+    glBindTexture(GL_TEXTURE_2D, texture.name());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, sampler.wrapS);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, sampler.wrapT);
+    if (sampler.minFilter != 0)
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, sampler.minFilter);
+    if (sampler.magFilter != 0)
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, sampler.magFilter);
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
 std::string describe(const GltfModel& model)
 {
     return model.file.empty() ? std::string("(in-memory model)") : model.file.string();
@@ -59,6 +79,9 @@ void checkPrimitive(const GltfModel& model, size_t index)
     const GltfPrimitive& p = model.primitives[index];
     const std::string where = describe(model) + ": primitive " + std::to_string(index);
     const size_t n = p.positions.size();
+    if (!(p.uvs1.empty() || p.uvs1.size() == n) || !(p.colors.empty() || p.colors.size() == n))
+        throw InputError(where + ": " + std::to_string(n) + " positions but " + std::to_string(p.uvs1.size()) +
+                         " second uvs, " + std::to_string(p.colors.size()) + " colours");
     if (p.normals.size() != n || p.uvs.size() != n || p.tangents.size() != n)
         throw InputError(where + ": " + std::to_string(n) + " positions but " + std::to_string(p.normals.size()) +
                          " normals, " + std::to_string(p.uvs.size()) + " uvs, " + std::to_string(p.tangents.size()) +
@@ -101,6 +124,13 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     block.textureFlags =
         glm::vec4(has(m.baseColorTexture), has(m.hasLafortune ? m.specularTexture : m.metallicRoughnessTexture),
                   has(m.lobeTexture), has(m.tangentRotationTexture));
+    block.alphaUnlitOcclusion = glm::vec4(float(int(m.alphaMode)), m.alphaCutoff, m.unlit ? 1.0f : 0.0f,
+                                          m.occlusionTexture >= 0 ? m.occlusionStrength : 0.0f);
+    for (size_t slot = 0; slot < kGltfTextureSlots; ++slot) {
+        const std::array<glm::vec3, 2> rows = m.uvTransforms[slot].rows();
+        block.uvTransforms[2 * slot] = glm::vec4(rows[0], m.uvTransforms[slot].texCoord == 1 ? 1.0f : 0.0f);
+        block.uvTransforms[2 * slot + 1] = glm::vec4(rows[1], 0.0f);
+    }
     if (m.hasLafortune) {
         const LafortuneParams& l = m.lafortune;
         block.baseColorFactor = glm::vec4(l.diffuse, m.baseColorFactor.a);
@@ -122,7 +152,9 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     material.specular = textureOr(m.specularTexture, defaults.white);
     material.lobe = textureOr(m.lobeTexture, defaults.white);
     material.tangentRotation = textureOr(m.tangentRotationTexture, defaults.white);
+    material.occlusion = textureOr(m.occlusionTexture, defaults.white);
     material.doubleSided = m.doubleSided;
+    material.alphaMode = m.alphaMode;
     const auto bit = [](bool on, uint32_t feature) { return on ? feature : 0U; };
     material.features =
         bit(m.baseColorTexture >= 0, mesh_feature::kBaseColorTexture) |
@@ -131,7 +163,10 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
         bit(m.tangentRotationTexture >= 0, mesh_feature::kRotationTexture) |
         bit(m.hasLafortune, mesh_feature::kLafortune) |
         bit(block.emissiveNormalScale.w != 0.0f, mesh_feature::kNormalMap) |
-        bit(glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))), mesh_feature::kEmission);
+        bit(glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))), mesh_feature::kEmission) |
+        bit(block.alphaUnlitOcclusion.w > 0.0f, mesh_feature::kOcclusionTexture) |
+        bit(m.unlit, mesh_feature::kUnlit) | bit(m.alphaMode == GltfAlphaMode::Mask, mesh_feature::kAlphaMask) |
+        bit(m.alphaMode == GltfAlphaMode::Blend, mesh_feature::kAlphaBlend);
     return material;
 }
 
@@ -161,6 +196,34 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
     attribute(1, 3, offsetof(Vertex, normal));
     attribute(2, 2, offsetof(Vertex, uv));
     attribute(3, 4, offsetof(Vertex, tangent));
+    // Vertex colours and the second uv set only where the primitive has them: elsewhere the
+    // attributes stay disabled and read MeshPass's constant white and (0, 0).
+    if (!p.colors.empty() || !p.uvs1.empty()) {
+        std::vector<ExtraVertex> extras(p.positions.size(), ExtraVertex{glm::vec4(1.0f), glm::vec2(0.0f)});
+        for (size_t i = 0; i < extras.size(); ++i) {
+            if (!p.colors.empty())
+                extras[i].color = p.colors[i];
+            if (!p.uvs1.empty())
+                extras[i].uv1 = p.uvs1[i];
+        }
+        primitive.extras = GlBuffer::create();
+        glBindBuffer(GL_ARRAY_BUFFER, primitive.extras.name());
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(extras.size() * sizeof(ExtraVertex)), extras.data(), GL_STATIC_DRAW);
+        glEnableVertexAttribArray(4);
+        glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, sizeof(ExtraVertex),
+                              reinterpret_cast<const void*>(offsetof(ExtraVertex, color)));
+        glEnableVertexAttribArray(5);
+        glVertexAttribPointer(5, 2, GL_FLOAT, GL_FALSE, sizeof(ExtraVertex),
+                              reinterpret_cast<const void*>(offsetof(ExtraVertex, uv1)));
+    }
+    if (!p.positions.empty()) {
+        glm::vec3 lo = p.positions[0], hi = p.positions[0];
+        for (const glm::vec3& position : p.positions) {
+            lo = glm::min(lo, position);
+            hi = glm::max(hi, position);
+        }
+        primitive.centre = 0.5f * (lo + hi);
+    }
 
     // 16-bit indices where they suffice: half the index traffic.
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, primitive.indices.name());
@@ -194,7 +257,8 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
                                                      {"emissive", material.emissiveTexture},
                                                      {"specular", material.specularTexture},
                                                      {"lobe", material.lobeTexture},
-                                                     {"tangent rotation", material.tangentRotationTexture}};
+                                                     {"tangent rotation", material.tangentRotationTexture},
+                                                     {"occlusion", material.occlusionTexture}};
         for (const auto& [slot, texture] : slots) {
             checkTextureIndex(model, m, slot, texture);
             if (texture >= 0)
@@ -212,8 +276,10 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
     gpu.boundsMax = model.boundsMax;
     gpu.textures.resize(model.textures.size());
     for (size_t t = 0; t < model.textures.size(); ++t)
-        if (textureUsed[t])
+        if (textureUsed[t]) {
             gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb, textureLimit);
+            applySampler(gpu.textures[t], t < model.textureSamplers.size() ? model.textureSamplers[t] : GltfSampler{});
+        }
     for (const GltfMaterial& material : model.materials)
         gpu.materials.push_back(uploadMaterial(material, gpu.textures, defaults));
     gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, defaults));

@@ -29,13 +29,19 @@ struct GpuMaterial {
     GLuint specular = 0;
     GLuint lobe = 0;
     GLuint tangentRotation = 0;
+    GLuint occlusion = 0;
     bool doubleSided = false;
     uint32_t features = 0; // mesh_feature bits of the material (mesh_features.h)
+    // Mask and Blend primitives are drawn in the shaded pass alone (a depth-only prepass
+    // must skip them); Blend ones after the opaque ones, back to front, without depth writes.
+    GltfAlphaMode alphaMode = GltfAlphaMode::Opaque;
 };
 
 struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};
-    GlBuffer vertices; // interleaved position, normal, uv, tangent
+    GlBuffer vertices;      // interleaved position, normal, uv, tangent
+    GlBuffer extras;        // interleaved colour, uv1 where the primitive has either (else empty)
+    glm::vec3 centre{0.0f}; // of its bounding box, mesh space: blended primitives' draw order
     GlBuffer indices;
     GlVertexArray vertexArray;
     GLsizei indexCount = 0;

@@ -27,6 +27,8 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kLafortune, "IS_LAFORTUNE"},
         {mesh_feature::kNormalMap, "HAS_NORMAL_MAP"},
         {mesh_feature::kEmission, "HAS_EMISSION"},
+        {mesh_feature::kOcclusionTexture, "HAS_OCCLUSION_TEXTURE"},
+        {mesh_feature::kUnlit, "IS_UNLIT"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
         {mesh_feature::kWritesRadiance, "WRITES_RADIANCE"},
@@ -34,6 +36,10 @@ std::string meshVariantDefines(uint32_t features)
     std::string defines;
     for (const auto& [bit, macro] : kMacros)
         defines += std::string("#define ") + macro + ((features & bit) != 0 ? " true\n" : " false\n");
+    const char* alphaMode = (features & mesh_feature::kAlphaBlend) != 0  ? "2.0"
+                            : (features & mesh_feature::kAlphaMask) != 0 ? "1.0"
+                                                                         : "0.0";
+    defines += std::string("#define ALPHA_MODE ") + alphaMode + "\n";
     return defines;
 }
 

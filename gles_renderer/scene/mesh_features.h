@@ -21,6 +21,10 @@ inline constexpr uint32_t kRotationTexture = 1U << 3;
 inline constexpr uint32_t kLafortune = 1U << 4;
 inline constexpr uint32_t kNormalMap = 1U << 5;
 inline constexpr uint32_t kEmission = 1U << 6;
+inline constexpr uint32_t kOcclusionTexture = 1U << 10;
+inline constexpr uint32_t kUnlit = 1U << 11;
+inline constexpr uint32_t kAlphaMask = 1U << 12;  // glTF alphaMode MASK
+inline constexpr uint32_t kAlphaBlend = 1U << 13; // BLEND (neither: OPAQUE)
 // Of the view (viewFeatures).
 inline constexpr uint32_t kShadow = 1U << 7;
 inline constexpr uint32_t kRgbmMaps = 1U << 8;

@@ -68,6 +68,7 @@ public:
         bindTexture(MeshPass::kSpecularUnit, material->specular);
         bindTexture(MeshPass::kLobeUnit, material->lobe);
         bindTexture(MeshPass::kTangentRotationUnit, material->tangentRotation);
+        bindTexture(MeshPass::kOcclusionUnit, material->occlusion);
         setCulling(!material->doubleSided);
     }
 
@@ -118,18 +119,14 @@ const MeshPass::Variant& MeshPass::variant(uint32_t features) const
     variant.normalFromMeshLocation = uniformLocation(program, "uNormalFromMesh");
     glUseProgram(program.name());
     // A variant has only the samplers its features read.
-    const std::pair<const char*, GLuint> samplers[] = {{"uBaseColor", kBaseColorUnit},
-                                                       {"uMetallicRoughness", kMetallicRoughnessUnit},
-                                                       {"uNormal", kNormalUnit},
-                                                       {"uEmissive", kEmissiveUnit},
-                                                       {"uSpecular", kSpecularUnit},
-                                                       {"uLobe", kLobeUnit},
-                                                       {"uTangentRotation", kTangentRotationUnit},
-                                                       {"uDiffuseMap", kDiffuseMapUnit},
-                                                       {"uGlossy1Map", kGlossy1MapUnit},
-                                                       {"uGlossy2Map", kGlossy2MapUnit},
-                                                       {"uMirrorMap", kMirrorMapUnit},
-                                                       {"uShadowMap", kShadowMapUnit}};
+    const std::pair<const char*, GLuint> samplers[] = {
+        {"uBaseColor", kBaseColorUnit},   {"uMetallicRoughness", kMetallicRoughnessUnit},
+        {"uNormal", kNormalUnit},         {"uEmissive", kEmissiveUnit},
+        {"uSpecular", kSpecularUnit},     {"uLobe", kLobeUnit},
+        {"uTangentRotation", kTangentRotationUnit}, {"uDiffuseMap", kDiffuseMapUnit},
+        {"uGlossy1Map", kGlossy1MapUnit}, {"uGlossy2Map", kGlossy2MapUnit},
+        {"uMirrorMap", kMirrorMapUnit},   {"uShadowMap", kShadowMapUnit},
+        {"uOcclusion", kOcclusionUnit}};
     for (const auto& [name, unit] : samplers) {
         const GLint location = optionalUniformLocation(program, name);
         if (location >= 0)
@@ -157,6 +154,10 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
+    // What primitives without vertex colours or a second uv set read (their attribute
+    // arrays stay disabled): white and (0, 0). Context state, so set for every pass.
+    glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
+    glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 1.0f);
     if (phantoms == Phantoms::DepthOnly) {
         // The phantoms first, into depth alone with a shader that shades nothing.
         // The program writes no colour, which leaves the colour buffer undefined where it
@@ -181,11 +182,38 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
             order_.push_back({centreDepth(items[i], models), i});
     std::sort(order_.begin(), order_.end());
     StateCache state;
+    blended_.clear();
     for (const auto& [depth, i] : order_)
-        drawItem(items[i], maps[i], models, state, -1, -1, detail, focalPixels, true);
+        drawItem(items[i], maps[i], models, state, -1, -1, detail, focalPixels, &blended_, i, true);
     if (cameraPhantoms)
         drawCameraPhantoms(*camera, models, items, maps, skip, state, detail, focalPixels);
+    if (!blended_.empty()) {
+        const bool rgbmMap = frame.frameParams.y > 0.5f && frame.frameParams.z > 0.5f;
+        drawBlended(items, maps, models, state, !rgbmMap);
+    }
     glBindVertexArray(0);
+}
+
+void MeshPass::drawBlended(std::span<const DrawItem> items, std::span<const IblMaps* const> maps,
+                           const std::vector<GpuModel>& models, StateCache& state, bool canBlend) const
+{
+    // Farthest first (the camera looks along +z).
+    std::sort(blended_.begin(), blended_.end(),
+              [](const BlendedPrimitive& a, const BlendedPrimitive& b) { return a.depth > b.depth; });
+    if (canBlend) {
+        glEnable(GL_BLEND);
+        // The destination's alpha is kept: the frame's alpha is not coverage.
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+        glDepthMask(GL_FALSE);
+    }
+    for (const BlendedPrimitive& b : blended_) {
+        state.bindMaps(maps[b.item]);
+        drawPrimitive(items[b.item], models[size_t(items[b.item].model)], *b.primitive, state, -1, -1, true);
+    }
+    if (canBlend) {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+    }
 }
 
 void MeshPass::drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -234,7 +262,8 @@ double MeshPass::modelPixels(const DrawItem& item, const GpuModel& model, double
 
 void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models,
                         StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail,
-                        double focalPixels, bool variants) const
+                        double focalPixels, std::vector<BlendedPrimitive>* blended, size_t itemIndex,
+                        bool variants) const
 {
     const bool shaded = variants || normalFromMeshLocation >= 0;
     if (shaded)
@@ -244,36 +273,50 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
         detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
                                 : model.primitives;
     for (const GpuPrimitive& primitive : primitives) {
-        // Composed in double precision: model matrices may carry large translations.
-        const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
-        const glm::dmat3 linear(cameraFromMesh);
-        const double determinant = glm::determinant(linear);
-        if (determinant == 0.0 || !std::isfinite(determinant))
-            continue; // flattened to nothing: invisible
-        // A mirroring transform turns the winding around (see clipFromCamera for CW).
-        state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
-        if (variants) {
-            const uint32_t features = model.materials[primitive.material].features | viewFeatures_;
-            if (state.variantFeatures != features) {
-                state.variant = &variant(features);
-                state.variantFeatures = features;
-                glUseProgram(state.variant->program.name());
-            }
-            cameraFromMeshLocation = state.variant->cameraFromMeshLocation;
-            normalFromMeshLocation = state.variant->normalFromMeshLocation;
+        if (blended != nullptr && model.materials[primitive.material].alphaMode == GltfAlphaMode::Blend) {
+            const glm::dvec4 centre =
+                item.cameraFromModel * primitive.modelFromMesh * glm::dvec4(glm::dvec3(primitive.centre), 1.0);
+            blended->push_back({centre.z, itemIndex, &primitive});
+            continue;
         }
-        const glm::mat4 cameraFromMeshF(cameraFromMesh);
-        glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
-        if (shaded) {
-            const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
-            glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
-            state.bindMaterial(&model.materials[primitive.material]);
-        } else {
-            state.setCulling(!model.materials[primitive.material].doubleSided);
-        }
-        glBindVertexArray(primitive.vertexArray.name());
-        glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+        drawPrimitive(item, model, primitive, state, cameraFromMeshLocation, normalFromMeshLocation, variants);
     }
+}
+
+void MeshPass::drawPrimitive(const DrawItem& item, const GpuModel& model, const GpuPrimitive& primitive,
+                             StateCache& state, GLint cameraFromMeshLocation, GLint normalFromMeshLocation,
+                             bool variants) const
+{
+    const bool shaded = variants || normalFromMeshLocation >= 0;
+    // Composed in double precision: model matrices may carry large translations.
+    const glm::dmat4 cameraFromMesh = item.cameraFromModel * primitive.modelFromMesh;
+    const glm::dmat3 linear(cameraFromMesh);
+    const double determinant = glm::determinant(linear);
+    if (determinant == 0.0 || !std::isfinite(determinant))
+        return; // flattened to nothing: invisible
+    // A mirroring transform turns the winding around (see clipFromCamera for CW).
+    state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
+    if (variants) {
+        const uint32_t features = model.materials[primitive.material].features | viewFeatures_;
+        if (state.variantFeatures != features) {
+            state.variant = &variant(features);
+            state.variantFeatures = features;
+            glUseProgram(state.variant->program.name());
+        }
+        cameraFromMeshLocation = state.variant->cameraFromMeshLocation;
+        normalFromMeshLocation = state.variant->normalFromMeshLocation;
+    }
+    const glm::mat4 cameraFromMeshF(cameraFromMesh);
+    glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+    if (shaded) {
+        const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(linear)));
+        glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+        state.bindMaterial(&model.materials[primitive.material]);
+    } else {
+        state.setCulling(!model.materials[primitive.material].doubleSided);
+    }
+    glBindVertexArray(primitive.vertexArray.name());
+    glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
 }
 
 } // namespace lumar

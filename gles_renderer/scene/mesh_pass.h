@@ -36,6 +36,7 @@ public:
     // phantom.frag's camera image and the phantoms' depth as the frame camera sees them.
     static constexpr GLuint kCameraImageUnit = 12;
     static constexpr GLuint kCameraDepthUnit = 13;
+    static constexpr GLuint kOcclusionUnit = 14; // glTF occlusionTexture (linear r)
 
     // How phantoms show the camera image in a view that is not the frame camera's (an
     // environment map's cube face): phantom.frag projects each fragment into the image.
@@ -87,12 +88,27 @@ private:
     // The variant for `features`, linked on first use.
     const Variant& variant(uint32_t features) const;
 
+    // A primitive with alphaMode BLEND, held back to be drawn after the opaque ones.
+    struct BlendedPrimitive {
+        double depth; // of its bounding-box centre along the view: drawn farthest first
+        size_t item;
+        const GpuPrimitive* primitive;
+    };
+
     // With `variants`, mesh.frag's variant for each primitive's material and the view
     // (viewFeatures_), switching programs as needed; else the bound program, whose locations
     // are given: normalFromMeshLocation < 0 is the depth-only program (no normals, no materials).
+    // `blended`: where BLEND primitives go instead of being drawn (null: drawn in order).
     void drawItem(const DrawItem& item, const IblMaps* maps, const std::vector<GpuModel>& models, StateCache& state,
                   GLint cameraFromMeshLocation, GLint normalFromMeshLocation, Detail detail, double focalPixels,
-                  bool variants = false) const;
+                  std::vector<BlendedPrimitive>* blended = nullptr, size_t itemIndex = 0, bool variants = false) const;
+    void drawPrimitive(const DrawItem& item, const GpuModel& model, const GpuPrimitive& primitive, StateCache& state,
+                       GLint cameraFromMeshLocation, GLint normalFromMeshLocation, bool variants = false) const;
+    // The held-back BLEND primitives, back to front, blended over what is drawn, depth-tested
+    // without depth writes. `canBlend` false (RGBM environment maps, whose alpha is the
+    // encoding's scale): drawn as cut-outs at alpha 0.5 by the shader, with depth writes.
+    void drawBlended(std::span<const DrawItem> items, std::span<const IblMaps* const> maps,
+                     const std::vector<GpuModel>& models, StateCache& state, bool canBlend) const;
 
     // The phantoms among `items` with phantom.frag.
     void drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -103,6 +119,7 @@ private:
     static double centreDepth(const DrawItem& item, const std::vector<GpuModel>& models);
 
     mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
+    mutable std::vector<BlendedPrimitive> blended_;        // per-draw scratch
     // Linked as draws need them: a scene uses a handful (the car scene six).
     mutable std::map<uint32_t, Variant> variants_;
     mutable uint32_t viewFeatures_ = 0; // of the view being drawn

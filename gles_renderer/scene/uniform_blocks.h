@@ -63,6 +63,16 @@ struct MaterialUniforms {
     // 1 where the material has the texture, 0 where the shader may skip the lookup (the
     // factor alone): x base colour, y metallic-roughness or specular, z lobe, w rotation.
     glm::vec4 textureFlags{0.0f};
+    // x: alpha mode (0 opaque, 1 mask, 2 blend); y: alpha cutoff (mask); z: 1 = unlit
+    // (KHR_materials_unlit); w: occlusion strength (0 where there is no occlusion texture).
+    glm::vec4 alphaUnlitOcclusion{0.0f, 0.5f, 0.0f, 0.0f};
+    // Per texture slot (GltfTextureSlot order: base colour, metallic-roughness, normal,
+    // emissive, occlusion, specular, lobe, tangent rotation) two rows of the uv transform:
+    // uv' = (dot(row0.xyz, (u, v, 1)), dot(row1.xyz, (u, v, 1))), the uv set TEXCOORD_0, or
+    // TEXCOORD_1 where row0.w is 1.
+    glm::vec4 uvTransforms[16] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0},
+                                  {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0},
+                                  {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
 };
 static_assert(offsetof(MaterialUniforms, baseColorFactor) == 0);
 static_assert(offsetof(MaterialUniforms, emissiveNormalScale) == 16);
@@ -70,6 +80,8 @@ static_assert(offsetof(MaterialUniforms, metallicRoughness) == 32);
 static_assert(offsetof(MaterialUniforms, specularFactor) == 48);
 static_assert(offsetof(MaterialUniforms, lobeFactor) == 64);
 static_assert(offsetof(MaterialUniforms, textureFlags) == 80);
-static_assert(sizeof(MaterialUniforms) == 96);
+static_assert(offsetof(MaterialUniforms, alphaUnlitOcclusion) == 96);
+static_assert(offsetof(MaterialUniforms, uvTransforms) == 112);
+static_assert(sizeof(MaterialUniforms) == 368);
 
 } // namespace lumar

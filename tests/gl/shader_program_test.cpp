@@ -77,8 +77,10 @@ TEST_F(Shaders, DefinesGoAfterTheVersionLine)
 TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
 {
     using namespace mesh_feature;
+    // Every lit feature at once (unlit materials skip the lighting: checked below).
     const uint32_t all = kBaseColorTexture | kSecondTexture | kLobeTexture | kRotationTexture | kLafortune |
-                         kNormalMap | kEmission | kShadow | kRgbmMaps | kWritesRadiance;
+                         kNormalMap | kEmission | kShadow | kRgbmMaps | kWritesRadiance | kOcclusionTexture |
+                         kAlphaMask | kAlphaBlend;
     std::vector<uint32_t> masks = {0U, all};
     for (uint32_t bit = 1; (bit & all) != 0; bit <<= 1)
         masks.push_back(bit);
@@ -93,8 +95,14 @@ TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
         EXPECT_EQ(optionalUniformLocation(program, "uShadowMap") >= 0, (mask & kShadow) != 0);
         EXPECT_EQ(optionalUniformLocation(program, "uLobe") >= 0,
                   (mask & kLobeTexture) != 0 && (mask & kLafortune) != 0);
+        EXPECT_EQ(optionalUniformLocation(program, "uOcclusion") >= 0, (mask & kOcclusionTexture) != 0);
         EXPECT_GE(optionalUniformLocation(program, "uMirrorMap"), 0);
     }
+    // An unlit material reads its base colour alone: no environment map is left in it.
+    GlProgram unlit;
+    ASSERT_NO_THROW(unlit = linkProgram(kMeshProgram, meshVariantDefines(kUnlit | kBaseColorTexture)));
+    EXPECT_GE(optionalUniformLocation(unlit, "uBaseColor"), 0);
+    EXPECT_LT(optionalUniformLocation(unlit, "uMirrorMap"), 0);
 }
 
 TEST(MeshVariantDefines, FixEveryFeatureOnce)
@@ -102,10 +110,12 @@ TEST(MeshVariantDefines, FixEveryFeatureOnce)
     const std::string defines = meshVariantDefines(mesh_feature::kShadow);
     EXPECT_NE(defines.find("#define HAS_SHADOW true\n"), std::string::npos) << defines;
     EXPECT_NE(defines.find("#define HAS_BASE_COLOR_TEXTURE false\n"), std::string::npos) << defines;
+    EXPECT_NE(defines.find("#define ALPHA_MODE 0.0\n"), std::string::npos) << defines;
+    EXPECT_NE(meshVariantDefines(mesh_feature::kAlphaMask).find("#define ALPHA_MODE 1.0\n"), std::string::npos);
     size_t lines = 0;
     for (const char c : defines)
         lines += c == '\n' ? 1 : 0;
-    EXPECT_EQ(lines, 10U);
+    EXPECT_EQ(lines, 13U); // twelve features and the alpha mode
 }
 
 } // namespace
