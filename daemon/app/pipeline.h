@@ -18,6 +18,7 @@
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl/dominant_light.h"
 #include "gles_renderer/scene/scene_renderer.h"
+#include "object_animation.h"
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
@@ -122,6 +123,7 @@ private:
         ModelId model = -1;
         int marker = 0; // a tag id, or mapKey() of a [[maps]] entry
         glm::dmat4 markerFromModel{1.0};
+        ObjectAnimation animation; // what plays (objects only)
     };
     struct MarkerState {
         Pose cameraFromMarker; // filtered when the config asks for it
@@ -146,9 +148,16 @@ private:
     void updateMaps(const std::vector<MapDetection>& maps, uint64_t sequence, int64_t timestampNs);
     // Returns the free pages loading left in malloc's heaps to the system.
     static void releaseLoadingMemory();
+    // Seconds of scene time at the current frame, what animations play at: since the first
+    // frame's capture timestamp with `realTime` (`lumar run`), else the frame number / fps
+    // (`lumar render`, `lumar bench`: the same on every run).
+    [[nodiscard]] double sceneSeconds();
 
     Config config_;
     bool profile_ = false;
+    bool realTime_ = false;
+    std::optional<int64_t> firstTimestampNs_; // with realTime_: the scene clock's start
+    std::vector<ClipTime> clips_;             // per-object scratch
     WindowTarget* window_ = nullptr;
     std::unique_ptr<CaptureSource> capture_;
     CameraIntrinsics intrinsics_;

@@ -83,9 +83,9 @@ int benchCommand(const BenchCommandOptions& options)
 
     std::vector<double> frameMs, captureMs, detectMs, renderMs, readbackMs, latencyMs;
     std::vector<double> environmentMapsMs, shMs, prefilterMs, shadingMs, shadowsMs, environmentCaptureMs, mapsUpdated;
-    std::vector<double> postMs;
+    std::vector<double> postMs, animationMs;
     for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &environmentMapsMs, &shMs,
-                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated, &postMs})
+                    &prefilterMs, &shadingMs, &shadowsMs, &environmentCaptureMs, &mapsUpdated, &postMs, &animationMs})
         v->reserve(size_t(frames));
     long measured = 0;
     const auto start = std::chrono::steady_clock::now();
@@ -108,6 +108,7 @@ int benchCommand(const BenchCommandOptions& options)
         shadowsMs.push_back(stats.shadowsMs);
         environmentCaptureMs.push_back(stats.environmentCaptureMs);
         postMs.push_back(stats.postMs);
+        animationMs.push_back(stats.animationMs);
         mapsUpdated.push_back(stats.mapsUpdated);
         ++measured;
     }
@@ -132,6 +133,7 @@ int benchCommand(const BenchCommandOptions& options)
             stages["shadows"] = jsonDecimals(mean(shadowsMs), 3);
             stages["environment_capture"] = jsonDecimals(mean(environmentCaptureMs), 3);
             stages["post"] = jsonDecimals(mean(postMs), 3);
+            stages["animation"] = jsonDecimals(mean(animationMs), 3);
         }
         const Json summary = {
             {"source", source},
@@ -177,7 +179,8 @@ int benchCommand(const BenchCommandOptions& options)
                                                                                 {"shadows", &shadowsMs},
 
                                                                                 {"env_capture", &environmentCaptureMs},
-                                                                                {"post", &postMs}};
+                                                                                {"post", &postMs},
+                                                                                {"animation", &animationMs}};
             for (const auto& [name, values] : parts)
                 std::printf("    %-9s %6.2f %8.2f %8.2f\n", name, mean(*values), percentile(*values, 0.5),
                             percentile(*values, 0.99));

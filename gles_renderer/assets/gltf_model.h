@@ -1,8 +1,10 @@
 // A glTF 2.0 model loaded into plain CPU data (tinygltf underneath), ready for upload.
-// Node transforms are flattened into each primitive's modelFromMesh matrix.
+// Node transforms are flattened into each primitive's modelFromMesh matrix; skins and morph
+// targets are applied in the rest pose, and a model with animations keeps its rig to pose it.
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,7 +64,13 @@ struct GltfPrimitive {
     std::vector<glm::vec4> tangents; // generated from uvs when absent (w = handedness)
     std::vector<uint32_t> indices;   // triangles
     int material = -1;               // -1: default material
+    // The glTF node it is an instance of and its index in that node's mesh (-1: not from a
+    // file): what the rig (gltf_rig.h) poses it by.
+    int node = -1;
+    int meshPrimitive = -1;
 };
+
+struct GltfRig;
 
 struct GltfModel {
     std::filesystem::path file;
@@ -70,6 +78,9 @@ struct GltfModel {
     std::vector<GltfMaterial> materials;
     std::vector<GltfTexture> textures;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space (after node transforms)
+    // The node hierarchy, skins, morph targets and animations of a model with animations
+    // (gltf_rig.h); null for a still one. `primitives` hold the rest pose.
+    std::shared_ptr<const GltfRig> rig;
     [[nodiscard]] size_t triangleCount() const;
 };
 
