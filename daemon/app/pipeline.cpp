@@ -90,6 +90,7 @@ GltfModel loadObjectModel(const ObjectConfig& object)
         everything.materials["*"].preset = object.material;
         applyMaterialOverrides(loaded, everything);
     }
+    (void)resolveObjectAnimation(object, loaded); // an unknown animation is bad input now, not later
     return loaded;
 }
 
@@ -264,7 +265,7 @@ RenderOptions renderOptionsFor(const Config& config)
 }
 
 Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int replayFrames, bool realTime)
-    : config_(config), profile_(profile), window_(window), overlayOn_(config.output.overlay)
+    : config_(config), profile_(profile), realTime_(realTime), window_(window), overlayOn_(config.output.overlay)
 {
     // Constructed first, so destroyed last: once the loaded models and maps below are freed.
     struct ReleaseWhenLoaded {
@@ -357,6 +358,7 @@ void Pipeline::placeScene(const std::vector<GltfModel>& models)
             if (!object.map.empty() && config_.maps[m].name == object.map)
                 placed.marker = TrackedPoses::mapKey(int(m));
         placed.markerFromModel = markerFromModel(object, models[i].boundsMin, models[i].boundsMax);
+        placed.animation = resolveObjectAnimation(object, models[i]);
         objects_.push_back(placed);
         LUMAR_LOG(App, Info) << "object '" << object.name << "': " << object.model.string() << " ("
                              << models[i].triangleCount() << " triangles) on "
@@ -395,7 +397,7 @@ void Pipeline::placeGrounds(const std::vector<GltfModel>& models)
             continue;
         if (ground < 0)
             ground = renderer_->addModel(makeGroundModel());
-        grounds_.push_back({ground, marker, *markerFromModel});
+        grounds_.push_back({ground, marker, *markerFromModel, {}});
     }
 }
 
@@ -525,11 +527,17 @@ bool Pipeline::step(FrameReport& report)
     drawItems_.clear();
     report.objects.clear();
     const Pose* environmentAnchor = nullptr;
+    const double seconds = sceneSeconds();
     for (size_t i = 0; i < objects_.size(); ++i) {
         const PlacedObject& object = objects_[i];
         const Pose* pose = poseOf(object.marker);
         if (!pose)
             continue;
+        // Only objects in view are posed; one out of view resumes where its clock stands.
+        if (object.animation.plays()) {
+            clipTimesAt(object.animation, seconds, clips_);
+            renderer_->poseModel(object.model, clips_);
+        }
         // The configured object's index names its environment map from frame to frame.
         drawItems_.push_back({object.model, pose->matrix() * object.markerFromModel, int(i)});
         report.objects.push_back({int(i), object.marker, drawItems_.back().cameraFromModel});
@@ -585,6 +593,17 @@ bool Pipeline::step(FrameReport& report)
     const double latencyMs = report.times.renderMs + report.times.readbackMs;
     displayLatencyMs_ = displayLatencyMs_ > 0.0 ? 0.9 * displayLatencyMs_ + 0.1 * latencyMs : latencyMs;
     return true;
+}
+
+double Pipeline::sceneSeconds()
+{
+    if (!realTime_) {
+        const double fps = capture_->fps();
+        return fps > 0.0 ? double(frame_.sequence) / fps : 0.0;
+    }
+    if (!firstTimestampNs_)
+        firstTimestampNs_ = frame_.timestampNs;
+    return double(frame_.timestampNs - *firstTimestampNs_) * 1e-9;
 }
 
 void Pipeline::detectInBackground()

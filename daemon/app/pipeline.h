@@ -19,6 +19,7 @@
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl/dominant_light.h"
 #include "gles_renderer/scene/scene_renderer.h"
+#include "object_animation.h"
 #include "tracking/one_euro_filter.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
@@ -149,6 +150,7 @@ private:
         ModelId model = -1;
         int marker = 0; // a tag id, or mapKey() of a [[maps]] entry
         glm::dmat4 markerFromModel{1.0};
+        ObjectAnimation animation; // what plays (objects only)
     };
 
     // Adds the configured objects (`models` in config_.objects' order) and phantoms to the
@@ -162,9 +164,16 @@ private:
     void drawSetupOverlay(const FrameReport& report);
     // Returns the free pages loading left in malloc's heaps to the system.
     static void releaseLoadingMemory();
+    // Seconds of scene time at the current frame, what animations play at: since the first
+    // frame's capture timestamp with `realTime` (`lumar run`), else the frame number / fps
+    // (`lumar render`, `lumar bench`: the same on every run).
+    [[nodiscard]] double sceneSeconds();
 
     Config config_;
     bool profile_ = false;
+    bool realTime_ = false;
+    std::optional<int64_t> firstTimestampNs_; // with realTime_: the scene clock's start
+    std::vector<ClipTime> clips_;             // per-object scratch
     WindowTarget* window_ = nullptr;
     std::unique_ptr<CaptureSource> capture_;
     CameraIntrinsics intrinsics_;

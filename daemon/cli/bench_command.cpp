@@ -104,7 +104,8 @@ int benchCommand(const BenchCommandOptions& options)
                                                               {"receivers", &RenderStats::receivers},
                                                               {"background", &RenderStats::background},
                                                               {"environment_capture", &RenderStats::environmentCapture},
-                                                              {"post", &RenderStats::post}};
+                                                              {"post", &RenderStats::post},
+                                                              {"animation", &RenderStats::animation}};
     std::vector<std::vector<double>> stageWallMs(std::size(stageFields)), stageCpuMs(std::size(stageFields));
     std::vector<double> mapsUpdated;
     for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated})

@@ -310,6 +310,21 @@ void readMaps(TableReader& root, std::vector<MapConfig>& maps, const std::vector
     });
 }
 
+// [[objects]] animation = "name" | index | "all" | "none", loop, speed. Names are checked
+// against the model when it is loaded (app/object_animation.h).
+void readObjectAnimation(TableReader& r, ObjectConfig& object)
+{
+    if (const toml::node* node = r.node("animation"); node && node->is_integer()) {
+        r.integer("animation", object.animationIndex, 0, 1 << 20);
+    } else {
+        r.string("animation", object.animation);
+        if (node && object.animation.empty())
+            r.fail(node, "animation", "must name an animation, or be an index, \"all\" or \"none\"");
+    }
+    r.boolean("loop", object.loop);
+    r.number("speed", object.speed, 0.0, 1000.0);
+}
+
 void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const std::vector<MarkerConfig>& markers,
                  const std::vector<MapConfig>& maps, const Context& ctx)
 {
@@ -370,6 +385,7 @@ void readObjects(TableReader& root, std::vector<ObjectConfig>& objects, const st
         r.vec3("rotation", object.rotationDeg, kMaxDegrees);
         r.number("scale", object.scale, 0.0, 1e6, true);
         r.number("size", object.size, 0.0, 1e3, true);
+        readObjectAnimation(r, object);
         objects.push_back(object);
     });
 }

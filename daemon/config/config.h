@@ -143,6 +143,13 @@ struct ObjectConfig {
                                          // (app/object_placement.h has the whole composition)
     double scale = 1.0;                  // uniform; or set `size` to fit the longest side
     double size = 0.0;                   // metres; > 0 overrides scale
+    // Which of the model's glTF animations plays (app/object_animation.h): "" (not given: the
+    // first, so a model exported with an animation moves), "all", "none", or a name; or, with
+    // animationIndex >= 0, that index. Checked against the model when it is loaded.
+    std::string animation;
+    int animationIndex = -1;
+    bool loop = true;   // false: the clip holds its last pose once played
+    double speed = 1.0; // clip seconds per scene second, >= 0 (0: the clip's first pose)
 };
 
 struct EnvironmentConfig {

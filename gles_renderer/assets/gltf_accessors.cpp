@@ -290,4 +290,14 @@ std::vector<uint32_t> readIndexAccessor(const tinygltf::Model& model, int access
     return decodeAccessor<uint32_t>(model, accessor, 1, what);
 }
 
+std::vector<float> readAccessorAsFloats(const tinygltf::Model& model, int accessorIndex, int components)
+{
+    const std::string what = "accessor " + std::to_string(accessorIndex);
+    const tinygltf::Accessor& accessor = checkedAccessor(model, accessorIndex, components, what);
+    std::vector<float> values = decodeAccessor<float>(model, accessor, components, what);
+    if (!std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); }))
+        throw InputError(what + ": holds a non-finite value");
+    return values;
+}
+
 } // namespace lumar::gltf

@@ -34,4 +34,10 @@ int accessorComponents(const tinygltf::Model& model, int accessorIndex);
 // An index accessor: SCALAR of unsigned byte, short or int.
 std::vector<uint32_t> readIndexAccessor(const tinygltf::Model& model, int accessorIndex);
 
+// Accessor `accessorIndex` as `components` floats per element whatever its component type:
+// normalized integers mapped as glTF 2.0 §3.11 says (signed ones to [-1, 1]), others as their
+// values (exact up to 2^24). The caller checks the component types its use allows. Sparse
+// substitution applied, non-finite values rejected. (Animation data: gltf_rig_reader.cpp.)
+std::vector<float> readAccessorAsFloats(const tinygltf::Model& model, int accessorIndex, int components);
+
 } // namespace lumar::gltf

@@ -16,6 +16,8 @@
 #include "gles_renderer/assets/gltf_accessors.h"
 #include "gles_renderer/assets/gltf_materials.h"
 #include "gles_renderer/assets/gltf_parse.h"
+#include "gles_renderer/assets/gltf_rig_reader.h"
+#include "gles_renderer/assets/model_pose.h"
 #include "gles_renderer/assets/tangent_space.h"
 
 namespace lumar {
@@ -346,10 +348,11 @@ public:
             }
             if (node.mesh >= 0 && node.extensions.count("EXT_mesh_gpu_instancing") != 0) {
                 for (const glm::dmat4& nodeFromInstance : instanceTransforms(node, what)) {
-                    appendMesh(node.mesh, glm::mat4(checkedFloatRange(modelFromNode * nodeFromInstance, what)), out);
+                    appendMesh(nodeIndex, node.mesh,
+                               glm::mat4(checkedFloatRange(modelFromNode * nodeFromInstance, what)), out);
                 }
             } else if (node.mesh >= 0) {
-                appendMesh(node.mesh, glm::mat4(modelFromNode), out);
+                appendMesh(nodeIndex, node.mesh, glm::mat4(modelFromNode), out);
             } else if (node.mesh < -1) {
                 throw InputError(what + ": mesh " + std::to_string(node.mesh) + " does not exist");
             }
@@ -438,7 +441,7 @@ private:
         return transforms;
     }
 
-    void appendMesh(int meshIndex, const glm::mat4& modelFromMesh, std::vector<GltfPrimitive>& out)
+    void appendMesh(int nodeIndex, int meshIndex, const glm::mat4& modelFromMesh, std::vector<GltfPrimitive>& out)
     {
         if (size_t(meshIndex) >= model_.meshes.size()) {
             throw InputError("mesh " + std::to_string(meshIndex) + " does not exist");
@@ -466,6 +469,8 @@ private:
                 }
                 out.push_back(*cached->second);
                 out.back().modelFromMesh = modelFromMesh;
+                out.back().node = nodeIndex;
+                out.back().meshPrimitive = int(p);
             }
         }
     }
@@ -487,6 +492,21 @@ void checkRequiredExtensions(const tinygltf::Model& model)
                       extension) == std::end(kSupportedRequiredExtensionsStatic)) {
             throw InputError("requires extension " + extension + ", which lumar does not support");
         }
+    }
+}
+
+// Skins and morph targets applied in the rest pose; the rig kept where animations move it
+// (a model without animations costs nothing per frame).
+void poseRestAndKeepRig(const tinygltf::Model& source, GltfModel& model)
+{
+    if (!gltf::hasRig(source)) {
+        return;
+    }
+    std::shared_ptr<GltfRig> rig = gltf::readGltfRig(source, model.primitives);
+    const ModelPoser rest(rig);
+    applyPose(rest, model.primitives);
+    if (!rig->animations.empty()) {
+        model.rig = std::move(rig);
     }
 }
 
@@ -533,6 +553,7 @@ GltfModel loadGltfModel(const std::filesystem::path& file)
         if (model.primitives.empty()) {
             throw InputError("the scene holds no triangles");
         }
+        poseRestAndKeepRig(source, model);
 
         glm::vec3 lo(std::numeric_limits<float>::max());
         glm::vec3 hi(std::numeric_limits<float>::lowest());

@@ -1,9 +1,11 @@
 // A glTF 2.0 model loaded into plain CPU data (tinygltf underneath), ready for upload.
-// Node transforms are flattened into each primitive's modelFromMesh matrix.
+// Node transforms are flattened into each primitive's modelFromMesh matrix; skins and morph
+// targets are applied in the rest pose, and a model with animations keeps its rig to pose it.
 #pragma once
 
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -111,7 +113,13 @@ struct GltfPrimitive {
     std::vector<glm::vec4> colors;   // COLOR_0 as linear rgba; empty when absent (white)
     std::vector<uint32_t> indices;   // triangles
     int material = -1;               // -1: default material
+    // The glTF node it is an instance of and its index in that node's mesh (-1: not from a
+    // file): what the rig (gltf_rig.h) poses it by.
+    int node = -1;
+    int meshPrimitive = -1;
 };
+
+struct GltfRig;
 
 struct GltfModel {
     std::filesystem::path file;
@@ -122,6 +130,9 @@ struct GltfModel {
     // texture without an entry is sampled with the default sampler.
     std::vector<GltfSampler> textureSamplers;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space (after node transforms)
+    // The node hierarchy, skins, morph targets and animations of a model with animations
+    // (gltf_rig.h); null for a still one. `primitives` hold the rest pose.
+    std::shared_ptr<const GltfRig> rig;
     [[nodiscard]] size_t triangleCount() const;
 };
 

@@ -134,11 +134,17 @@ void EnvironmentProbes::refreshEnvironmentMaps(const EnvironmentLighting& enviro
     checkGlError("refreshing the real environment's maps");
 }
 
-void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment)
+void EnvironmentProbes::chooseUpdates(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                      const EnvironmentLighting& environment)
 {
     updates_.clear();
-    if (options_.policy == EnvironmentMapPolicy::OnChange)
+    // Animated models change shape where they stand: each pose counts as a change.
+    uint64_t poses = 0;
+    if (options_.policy == EnvironmentMapPolicy::OnChange) {
         describeScene(items, environment, scene_);
+        for (const DrawItem& item : items)
+            poses += models[size_t(item.model)].poseGeneration;
+    }
     std::vector<size_t>& owners = owners_; // items with a dynamic map, in order
     owners.clear();
     for (size_t i = 0; i < items.size(); ++i)
@@ -162,8 +168,9 @@ void EnvironmentProbes::chooseUpdates(std::span<const DrawItem> items, const Env
             break;
         case EnvironmentMapPolicy::OnChange: {
             History& history = history_[items[i].object];
-            if (!ready || !sameScene(history.scene, scene_)) {
+            if (!ready || !sameScene(history.scene, scene_) || history.poses != poses) {
                 history.scene = scene_;
+                history.poses = poses;
                 history.bouncesLeft = kSettlingUpdates;
             }
             if (history.bouncesLeft > 0) {
@@ -296,7 +303,7 @@ EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const D
         maps_[i] = own ? own : &environmentMaps_;
     }
     if (options_.dynamic) {
-        chooseUpdates(items, environment);
+        chooseUpdates(models, items, environment);
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
         for (const size_t i : updates_) {
             const double before = stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs;

@@ -5,6 +5,7 @@
 // the configured policy; an object whose maps are not ready is lit by the real environment.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <span>
@@ -61,7 +62,8 @@ public:
 private:
     void rebuildEnvironmentMaps(const EnvironmentLighting& environment);
     // Which items get new maps this frame (indices into items).
-    void chooseUpdates(std::span<const DrawItem> items, const EnvironmentLighting& environment);
+    void chooseUpdates(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                       const EnvironmentLighting& environment);
     void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                      const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
                      const CameraView& camera, RenderCpuClock* cpu, bool finish, RenderStats& stats);
@@ -74,6 +76,7 @@ private:
     // OnChange: what each object's map last saw, and the updates still owed to the bounces.
     struct History {
         std::vector<glm::dmat4> scene;
+        uint64_t poses = 0; // the sum of the items' GpuModel::poseGeneration
         int bouncesLeft = 0;
     };
     std::map<int, History> history_;

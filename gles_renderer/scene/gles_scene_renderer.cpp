@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -25,6 +26,7 @@
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/lens_effects.h"
 #include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/model_pose_upload.h"
 #include "gles_renderer/scene/phantom_depth.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/scene/shadow_pass.h"
@@ -98,8 +100,26 @@ public:
     {
         context_.makeCurrent();
         models_.push_back(uploadModel(model, defaults_, materialTextureLimit_));
+        models_.back().pose = makeGpuModelPose(model);
         LUMAR_LOG(Render, Debug) << "uploaded " << model.file.string() << " as model " << models_.size() - 1;
         return ModelId(models_.size() - 1);
+    }
+
+    void poseModel(ModelId model, std::span<const ClipTime> clips) override
+    {
+        if (model < 0 || size_t(model) >= models_.size())
+            throw InputError("poseModel: model " + std::to_string(model) + " does not exist (the renderer has " +
+                             std::to_string(models_.size()) + ")");
+        GpuModel& gpu = models_[size_t(model)];
+        if (!gpu.pose) {
+            if (!clips.empty())
+                throw InputError("poseModel: model " + std::to_string(model) + " has no animations");
+            return;
+        }
+        StageTimer timer(profiler(), false);
+        context_.makeCurrent();
+        poseGpuModel(gpu, clips);
+        timer.split(animation_);
     }
 
     void removeModels() override
@@ -243,6 +263,7 @@ private:
         context_.makeCurrent();
 
         stats_ = RenderStats{};
+        stats_.animation = std::exchange(animation_, StageTime{});
         frame_.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, width_, height_));
         shadows_.render(models_, items, environment_.environmentFromCamera(), profiler(), stats_);
         // The camera image first: the environment maps may show it (phantoms carry it).
@@ -365,6 +386,7 @@ private:
     long captureFrame_ = 0;
     bool profile_;
     RenderCpuClock cpuClock_; // read only with profile_
+    StageTime animation_;     // poseModel() since the last frame
     RenderStats stats_;
     FrameUniforms frame_;
     std::unique_ptr<LensEffects> lens_;          // with RenderOptions::lens

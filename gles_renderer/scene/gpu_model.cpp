@@ -3,12 +3,14 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "gles_renderer/assets/gltf_rig.h"
 #include "gles_renderer/assets/lafortune_material.h"
 #include "gles_renderer/assets/mesh_simplify.h"
 #include "gles_renderer/gl/gl_check.h"
@@ -164,19 +166,26 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
         bit(m.hasLafortune, mesh_feature::kLafortune) |
         bit(block.emissiveNormalScale.w != 0.0f, mesh_feature::kNormalMap) |
         bit(glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))), mesh_feature::kEmission) |
-        bit(block.alphaUnlitOcclusion.w > 0.0f, mesh_feature::kOcclusionTexture) |
-        bit(m.unlit, mesh_feature::kUnlit) | bit(m.alphaMode == GltfAlphaMode::Mask, mesh_feature::kAlphaMask) |
+        bit(block.alphaUnlitOcclusion.w > 0.0f, mesh_feature::kOcclusionTexture) | bit(m.unlit, mesh_feature::kUnlit) |
+        bit(m.alphaMode == GltfAlphaMode::Mask, mesh_feature::kAlphaMask) |
         bit(m.alphaMode == GltfAlphaMode::Blend, mesh_feature::kAlphaBlend);
     return material;
 }
 
-GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
+std::vector<Vertex> interleave(const GltfPrimitive& p)
 {
     std::vector<Vertex> vertices(p.positions.size());
     for (size_t i = 0; i < vertices.size(); ++i)
         vertices[i] = {p.positions[i], p.normals[i], p.uvs[i], p.tangents[i]};
+    return vertices;
+}
+
+GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial, size_t source, GLenum usage)
+{
+    const std::vector<Vertex> vertices = interleave(p);
 
     GpuPrimitive primitive;
+    primitive.source = source;
     primitive.modelFromMesh = glm::dmat4(p.modelFromMesh);
     primitive.material = p.material >= 0 ? size_t(p.material) : defaultMaterial;
     primitive.indexCount = GLsizei(p.indices.size());
@@ -186,7 +195,7 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial)
 
     glBindVertexArray(primitive.vertexArray.name());
     glBindBuffer(GL_ARRAY_BUFFER, primitive.vertices.name());
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), usage);
     const auto attribute = [](GLuint location, GLint components, size_t offset) {
         glEnableVertexAttribArray(location);
         glVertexAttribPointer(location, components, GL_FLOAT, GL_FALSE, sizeof(Vertex),
@@ -284,9 +293,23 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
         gpu.materials.push_back(uploadMaterial(material, gpu.textures, defaults));
     gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, defaults));
     const size_t defaultMaterial = gpu.materials.size() - 1;
-    for (const GltfPrimitive& primitive : model.primitives)
-        if (!primitive.indices.empty())
-            gpu.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+    // Vertices a rig deforms are uploaded again with every pose.
+    const bool deforms = model.rig && model.rig->deforms();
+    const GLenum usage = deforms ? GL_DYNAMIC_DRAW : GL_STATIC_DRAW;
+    for (size_t p = 0; p < model.primitives.size(); ++p)
+        if (!model.primitives[p].indices.empty())
+            gpu.primitives.push_back(uploadPrimitive(model.primitives[p], defaultMaterial, p, usage));
+    if (deforms) {
+        // Stand-ins simplified from the rest pose would show it in the maps and shadows while the
+        // model moves: the model itself stands in, posed with it (model_pose_upload.h).
+        GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
+        level.cells = kProxyMaxCells;
+        for (size_t p = 0; p < model.primitives.size(); ++p)
+            if (!model.primitives[p].indices.empty())
+                level.primitives.push_back(uploadPrimitive(model.primitives[p], defaultMaterial, p, usage));
+        checkGlError("uploading a model");
+        return gpu;
+    }
     size_t keptTriangles = 0;
     for (const int cells : kProxyLevelCells) {
         const GltfModel proxy = makeProxyModel(model, cells);
@@ -296,12 +319,27 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
         keptTriangles = triangles;
         GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
         level.cells = cells;
-        for (const GltfPrimitive& primitive : proxy.primitives)
-            if (!primitive.indices.empty())
-                level.primitives.push_back(uploadPrimitive(primitive, defaultMaterial));
+        // makeProxyModel keeps the primitives' order: animation finds each one's source by it.
+        for (size_t p = 0; p < proxy.primitives.size(); ++p)
+            if (!proxy.primitives[p].indices.empty())
+                level.primitives.push_back(uploadPrimitive(proxy.primitives[p], defaultMaterial, p, GL_STATIC_DRAW));
     }
     checkGlError("uploading a model");
     return gpu;
+}
+
+void interleaveVertices(const GltfPrimitive& posed, std::vector<std::byte>& bytes)
+{
+    const std::vector<Vertex> vertices = interleave(posed);
+    bytes.resize(vertices.size() * sizeof(Vertex));
+    std::memcpy(bytes.data(), vertices.data(), bytes.size());
+}
+
+void replaceVertices(const GpuPrimitive& primitive, std::span<const std::byte> interleaved)
+{
+    glBindBuffer(GL_ARRAY_BUFFER, primitive.vertices.name());
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(interleaved.size()), interleaved.data(), GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels)

@@ -4,6 +4,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -47,7 +49,10 @@ struct GpuPrimitive {
     GLsizei indexCount = 0;
     GLenum indexType = GL_UNSIGNED_INT;
     size_t material = 0; // index into GpuModel::materials
+    size_t source = 0;   // index into GltfModel::primitives of what it was made from (animation poses it)
 };
+
+struct GpuModelPose; // model_pose_upload.h
 
 struct GpuModel {
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // model space: the environment map's centre
@@ -61,6 +66,11 @@ struct GpuModel {
         std::vector<GpuPrimitive> primitives;
     };
     std::vector<ProxyLevel> proxyLevels; // finest first; never empty after uploadModel
+    // An animated model's posing state (model_pose_upload.h); null for a still one. Its
+    // bounds, transforms and (deforming models) vertices change with every pose, and
+    // poseGeneration counts the poses.
+    std::shared_ptr<GpuModelPose> pose;
+    uint64_t poseGeneration = 0;
 };
 
 // Cells along a model's longest side for its finest environment-map stand-in: a
@@ -79,6 +89,14 @@ const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPix
 
 // Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.
 // Textures larger than `textureLimit` (0: no limit) are scaled down to fit on upload.
+// A model whose rig deforms it (skins, morph targets) gets one stand-in level, the model itself,
+// posed with it.
 GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, int textureLimit = 0);
+
+// `posed`'s vertices interleaved as uploadPrimitive lays them out, into `bytes`.
+void interleaveVertices(const GltfPrimitive& posed, std::vector<std::byte>& bytes);
+// Replaces all of `primitive`'s vertices (the same count) with `interleaved` (orphaning the
+// buffer, so a draw still reading the old ones does not stall the upload).
+void replaceVertices(const GpuPrimitive& primitive, std::span<const std::byte> interleaved);
 
 } // namespace lumar

@@ -119,14 +119,19 @@ const MeshPass::Variant& MeshPass::variant(uint32_t features) const
     variant.normalFromMeshLocation = uniformLocation(program, "uNormalFromMesh");
     glUseProgram(program.name());
     // A variant has only the samplers its features read.
-    const std::pair<const char*, GLuint> samplers[] = {
-        {"uBaseColor", kBaseColorUnit},   {"uMetallicRoughness", kMetallicRoughnessUnit},
-        {"uNormal", kNormalUnit},         {"uEmissive", kEmissiveUnit},
-        {"uSpecular", kSpecularUnit},     {"uLobe", kLobeUnit},
-        {"uTangentRotation", kTangentRotationUnit}, {"uDiffuseMap", kDiffuseMapUnit},
-        {"uGlossy1Map", kGlossy1MapUnit}, {"uGlossy2Map", kGlossy2MapUnit},
-        {"uMirrorMap", kMirrorMapUnit},   {"uShadowMap", kShadowMapUnit},
-        {"uOcclusion", kOcclusionUnit}};
+    const std::pair<const char*, GLuint> samplers[] = {{"uBaseColor", kBaseColorUnit},
+                                                       {"uMetallicRoughness", kMetallicRoughnessUnit},
+                                                       {"uNormal", kNormalUnit},
+                                                       {"uEmissive", kEmissiveUnit},
+                                                       {"uSpecular", kSpecularUnit},
+                                                       {"uLobe", kLobeUnit},
+                                                       {"uTangentRotation", kTangentRotationUnit},
+                                                       {"uDiffuseMap", kDiffuseMapUnit},
+                                                       {"uGlossy1Map", kGlossy1MapUnit},
+                                                       {"uGlossy2Map", kGlossy2MapUnit},
+                                                       {"uMirrorMap", kMirrorMapUnit},
+                                                       {"uShadowMap", kShadowMapUnit},
+                                                       {"uOcclusion", kOcclusionUnit}};
     for (const auto& [name, unit] : samplers) {
         const GLint location = optionalUniformLocation(program, name);
         if (location >= 0)

@@ -12,6 +12,7 @@
 #include "core/ycbcr_image.h"
 #include "gles_renderer/assets/environment_map.h"
 #include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/assets/model_pose.h"
 #include "gles_renderer/ibl_gpu/ibl_maps.h"
 #include "gles_renderer/overlay/overlay_scene.h"
 
@@ -129,6 +130,9 @@ struct RenderStats {
     // own maps rebuilt (EnvironmentSource::Camera*; 0 with the .hdr alone).
     StageTime environmentCapture;
     StageTime post; // lens effects (0 when off)
+    // Posing animated models (poseModel) since the frame before: node animation, CPU skinning
+    // and morphing, and the vertex uploads (CPU work: timed without waiting for the GPU).
+    StageTime animation;
 };
 
 // Where the real environment's radiance comes from (DESIGN.md §6.5).
@@ -163,6 +167,12 @@ public:
     virtual ~SceneRenderer() = default;
 
     virtual ModelId addModel(const GltfModel& model) = 0;
+    // Poses a model with animations (GltfModel::rig) at `clips` for the frames that follow,
+    // for every item that draws it: its transforms, skinned and morphed vertices, and the
+    // bounds its culling, shadows and environment map use. No clips: the rest pose. A model
+    // without animations ignores an empty call. Throws InputError for an unknown model or
+    // animation.
+    virtual void poseModel(ModelId model, std::span<const ClipTime> clips) = 0;
     virtual void removeModels() = 0;
     // `equirect` is linear HDR radiance; `intensity` scales it.
     virtual void setEnvironment(const ImageF& equirect, float intensity) = 0;
