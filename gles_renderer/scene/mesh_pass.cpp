@@ -116,7 +116,8 @@ const MeshPass::Variant& MeshPass::variant(uint32_t features) const
     variant.program = linkProgram(kMeshProgram, meshVariantDefines(features));
     const GlProgram& program = variant.program;
     variant.cameraFromMeshLocation = uniformLocation(program, "uCameraFromMesh");
-    variant.normalFromMeshLocation = uniformLocation(program, "uNormalFromMesh");
+    // Unlit variants read no normal (-1: glUniform ignores it).
+    variant.normalFromMeshLocation = optionalUniformLocation(program, "uNormalFromMesh");
     glUseProgram(program.name());
     // A variant has only the samplers its features read.
     const std::pair<const char*, GLuint> samplers[] = {{"uBaseColor", kBaseColorUnit},
