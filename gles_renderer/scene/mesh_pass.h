@@ -120,7 +120,8 @@ private:
 
     mutable std::vector<std::pair<double, size_t>> order_; // per-draw scratch
     mutable std::vector<BlendedPrimitive> blended_;        // per-draw scratch
-    // Linked as draws need them: a scene uses a handful (the car scene six).
+    // Linked as draws need them: one per combination of features a scene's materials and
+    // views use.
     mutable std::map<uint32_t, Variant> variants_;
     mutable uint32_t viewFeatures_ = 0; // of the view being drawn
     GlProgram phantomProgram_;

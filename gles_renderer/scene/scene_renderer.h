@@ -115,7 +115,8 @@ struct StageTime {
 };
 
 // The last frame's stages, measured only with RenderOptions::profile (it waits for the GPU
-// between stages, which a real GPU would otherwise overlap).
+// between stages, which a real GPU would otherwise overlap); `animation` is CPU work and is
+// timed always.
 struct RenderStats {
     int mapsUpdated = 0;
     int facesCulled = 0;       // objects left out of cube faces they cannot appear in
