@@ -261,7 +261,7 @@ void main()
     if (HAS_SHADOW) {
         float nl = dot(n, lightDirection.xyz);
         if (nl > 0.0) {
-            float visibility = shadowVisibility(vPosition, n);
+            float visibility = shadowVisibilityFiveTaps(vPosition, n);
             if (visibility < 1.0)
                 irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,
                                  kShadowFloor * irradiance);

@@ -92,17 +92,34 @@ float openness(vec3 position, vec3 normal)
     return open;
 }
 
+// Whether any occluder's reach sphere holds the point: cheaper than openness(), which is 1
+// wherever this is false.
+bool nearAnOccluder(vec3 position)
+{
+    bool near = false;
+    for (int i = 0; i < uOccluderCount; ++i) {
+        vec3 fromCentre = position - uOccluderReach[i].xyz;
+        near = near || dot(fromCentre, fromCentre) < uOccluderReach[i].w;
+    }
+    return near;
+}
+
 void main()
 {
     vec3 n = normalize(vNormal);
     if (!gl_FrontFacing)
         n = -n;
-    // The cheap tests first: most of a table is neither in a shadow nor near an object, and
-    // its pixels are left alone (a blended write of 1.0 would leave them unchanged too, but on
-    // llvmpipe blending into the RGB8 frame cost ~300 ms per 1280x720 frame of table).
-    float open = openness(vPosition, n);
     float nl = lightIrradiance.w > 0.5 ? dot(n, lightDirection.xyz) : 0.0;
-    float visibility = nl > 0.0 && lightDirection.w > 0.5 ? shadowVisibility(vPosition, n) : 1.0;
+    vec4 shadowAt = shadowCoordinates(vPosition, n);
+    float corners = nl > 0.0 && lightDirection.w > 0.5 && shadowAt.w > 0.5 ? shadowCorners(shadowAt) : 4.0;
+    // The cheap tests first, and a discard at the top level of main: llvmpipe runs both sides
+    // of every branch (uniform ones too), but stops shading a block of pixels once a discard
+    // has killed all of them. Most of a table is neither in a shadow nor near an object, and
+    // its pixels are left alone (a blended write of 1.0 would leave them unchanged too).
+    if (corners >= 3.999 && !nearAnOccluder(vPosition))
+        discard;
+    float open = openness(vPosition, n);
+    float visibility = shadowVisibilityWithCorners(shadowAt, corners);
     if (open == 1.0 && visibility == 1.0)
         discard;
     vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, environmentFromCamera * n, 0.0),
