@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -431,6 +432,36 @@ TEST(KhronosRender, SimpleSkinBendsAsItsJointTurns)
     const glm::dvec2 leftOfKnee = bent.pixelOf({-0.9, 1.0, 0.0}), restTop = bent.pixelOf({0.3, 1.9, 0.0});
     EXPECT_GT(bent.at(int(leftOfKnee.x), int(leftOfKnee.y)).g, 128);
     EXPECT_LT(bent.at(int(restTop.x), int(restTop.y)).g, 20);
+}
+
+// Not a check: with LUMAR_KHRONOS_SWEEP=DIR, every .glb and .gltf in DIR is loaded and drawn
+// from the front (with LUMAR_KHRONOS_DUMP, its frame kept), one line each: what loaded, or
+// the one-line message lumar gives. docs/gltf-support.md's table was made this way.
+TEST(KhronosRender, SweepDirectory)
+{
+    const char* dir = std::getenv("LUMAR_KHRONOS_SWEEP");
+    if (dir == nullptr)
+        GTEST_SKIP() << "LUMAR_KHRONOS_SWEEP=DIR not set";
+    LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize);
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+        if (entry.path().extension() == ".glb" || entry.path().extension() == ".gltf")
+            files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    for (const std::filesystem::path& file : files) {
+        std::string line = file.stem().string() + " | ";
+        try {
+            const GltfModel model = loadGltfModel(file);
+            renderer.removeModels();
+            const ModelId id = renderer.addModel(model);
+            renderModel(renderer, id, model, View{}, file.stem().string());
+            line += "loaded: " + std::to_string(model.primitives.size()) + " primitives, " +
+                    std::to_string(model.triangleCount()) + " triangles" + (model.rig ? ", animated" : "");
+        } catch (const std::exception& e) {
+            line += std::string("refused: ") + e.what();
+        }
+        std::printf("SWEEP %s\n", line.c_str());
+    }
 }
 
 } // namespace
