@@ -125,10 +125,27 @@ std::vector<glm::vec3> vertexNormals(const std::vector<float>& fromFile, const s
     return normals;
 }
 
-// The file's tangents (unit xyz, w exactly +-1), or tangents generated from the uvs when it
-// has none or some of its tangents are zero-length.
+// The uv set (0 or 1) the primitive's normal map reads: normalTexture.texCoord, or
+// KHR_texture_transform's texCoord where it gives one; 0 without a normal map.
+int normalMapTexCoord(const tinygltf::Model& model, const tinygltf::Primitive& source)
+{
+    if (source.material < 0 || size_t(source.material) >= model.materials.size())
+        return 0;
+    const tinygltf::NormalTextureInfo& normal = model.materials[size_t(source.material)].normalTexture;
+    if (normal.index < 0)
+        return 0;
+    int texCoord = normal.texCoord;
+    const auto transform = normal.extensions.find("KHR_texture_transform");
+    if (transform != normal.extensions.end() && transform->second.IsObject() && transform->second.Has("texCoord") &&
+        transform->second.Get("texCoord").IsInt())
+        texCoord = transform->second.Get("texCoord").GetNumberAsInt();
+    return texCoord == 1 ? 1 : 0;
+}
+
+// The file's tangents (unit xyz, w exactly +-1), or tangents generated from the normal map's
+// uvs when it has none or some of its tangents are zero-length.
 std::vector<glm::vec4> vertexTangents(const std::vector<float>& fromFile, const GltfPrimitive& primitive,
-                                      const std::string& file, const std::string& what)
+                                      int normalTexCoord, const std::string& file, const std::string& what)
 {
     std::vector<glm::vec4> tangents = toVectors<glm::vec4>(fromFile);
     for (glm::vec4& t : tangents) {
@@ -141,7 +158,8 @@ std::vector<glm::vec4> vertexTangents(const std::vector<float>& fromFile, const 
         t = glm::vec4(glm::vec3(t) / length, t.w < 0.0f ? -1.0f : 1.0f);
     }
     if (tangents.empty()) {
-        tangents = generateTangents(primitive.positions, primitive.normals, primitive.uvs, primitive.indices);
+        tangents = generateTangents(primitive.positions, primitive.normals,
+                                    normalMapUvs(normalTexCoord, primitive.uvs, primitive.uvs1), primitive.indices);
     }
     return tangents;
 }
@@ -223,9 +241,9 @@ std::optional<GltfPrimitive> convertPrimitive(const tinygltf::Model& model, cons
     if (primitive.uvs.empty()) {
         primitive.uvs.assign(vertexCount, glm::vec2(0.0f));
     }
-    primitive.tangents =
-        vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount, true), primitive, file, what);
     primitive.uvs1 = toVectors<glm::vec2>(readAttribute(model, source, "TEXCOORD_1", 2, true, vertexCount, true));
+    primitive.tangents = vertexTangents(readAttribute(model, source, "TANGENT", 4, false, vertexCount, true), primitive,
+                                        normalMapTexCoord(model, source), file, what);
     primitive.colors = vertexColors(model, source, vertexCount);
     return primitive;
 }

@@ -97,4 +97,10 @@ std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions, st
     return tangents;
 }
 
+std::span<const glm::vec2> normalMapUvs(int normalTexCoord, std::span<const glm::vec2> uvs0,
+                                        std::span<const glm::vec2> uvs1)
+{
+    return normalTexCoord == 1 && uvs1.size() == uvs0.size() ? uvs1 : uvs0;
+}
+
 } // namespace lumar

@@ -29,4 +29,10 @@ std::vector<glm::vec3> generateVertexNormals(std::span<const glm::vec3> position
 std::vector<glm::vec4> generateTangents(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                                         std::span<const glm::vec2> uvs, std::span<const uint32_t> indices);
 
+// The uv set generated tangents follow: the normal map's (glTF normalTexture.texCoord, with
+// KHR_texture_transform's override), because its texels are authored in that set's tangent
+// frame; TEXCOORD_0 where it names 0 or a set the primitive lacks (empty `uvs1`).
+std::span<const glm::vec2> normalMapUvs(int normalTexCoord, std::span<const glm::vec2> uvs0,
+                                        std::span<const glm::vec2> uvs1);
+
 } // namespace lumar

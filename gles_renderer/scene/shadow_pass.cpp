@@ -143,6 +143,13 @@ void ShadowPass::linkDepthProgram()
     depthProgram_ = linkProgram(kDepthOnlyProgram);
     depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
     bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
+    // glTF alphaMode MASK: the surface cut where mesh.frag cuts it.
+    cutoutProgram_ = linkProgram(kDepthOnlyProgram, "#define ALPHA_CUTOUT 1\n");
+    cutoutCameraFromMeshLocation_ = uniformLocation(cutoutProgram_, "uCameraFromMesh");
+    bindUniformBlock(cutoutProgram_, "Frame", kFrameBlockBinding);
+    bindUniformBlock(cutoutProgram_, "Material", kMaterialBlockBinding);
+    glUseProgram(cutoutProgram_.name());
+    glUniform1i(uniformLocation(cutoutProgram_, "uBaseColor"), GLint(kCutoutTextureUnit));
 }
 
 void ShadowPass::linkReceiverPrograms()
@@ -330,6 +337,12 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &lightFrame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
+    // What primitives without vertex colours or a second uv set read in the cut-out program
+    // (their attribute arrays stay disabled), as in MeshPass.
+    glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
+    glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 1.0f);
+    glActiveTexture(GL_TEXTURE0 + kCutoutTextureUnit);
+    const GlProgram* bound = &depthProgram_;
     glUseProgram(depthProgram_.name());
     for (const DrawItem& item : items) {
         if (!isCaster(item))
@@ -342,7 +355,19 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
         const double texels = scale * std::max({extent.x, extent.y, extent.z}) / texelMetres_;
         for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
             const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
-            glUniformMatrix4fv(depthCameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMesh));
+            const GpuMaterial& material = model.materials[primitive.material];
+            const bool cutout = material.alphaMode == GltfAlphaMode::Mask;
+            const GlProgram* program = cutout ? &cutoutProgram_ : &depthProgram_;
+            if (bound != program) {
+                glUseProgram(program->name());
+                bound = program;
+            }
+            if (cutout) {
+                glBindBufferBase(GL_UNIFORM_BUFFER, kMaterialBlockBinding, material.uniforms.name());
+                glBindTexture(GL_TEXTURE_2D, material.baseColor);
+            }
+            glUniformMatrix4fv(cutout ? cutoutCameraFromMeshLocation_ : depthCameraFromMeshLocation_, 1, GL_FALSE,
+                               glm::value_ptr(cameraFromMesh));
             glBindVertexArray(primitive.vertexArray.name());
             glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
         }

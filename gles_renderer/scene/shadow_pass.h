@@ -113,6 +113,10 @@ private:
     GlFramebuffer framebuffer_;
     GlProgram depthProgram_;
     GLint depthCameraFromMeshLocation_ = -1;
+    // depth_only with ALPHA_CUTOUT, for MASK materials; their base colour on this unit.
+    static constexpr GLuint kCutoutTextureUnit = 0;
+    GlProgram cutoutProgram_;
+    GLint cutoutCameraFromMeshLocation_ = -1;
     GlProgram receiverProgram_;
     GLint cameraFromMeshLocation_ = -1;
     GLint normalFromMeshLocation_ = -1;

@@ -293,5 +293,35 @@ TEST(GltfStaticFeatures, PointsAndLinesAreSkippedNamingThePrimitive)
     EXPECT_EQ(model.primitives.size(), 1u) << "the lines are skipped with a warning, the triangle drawn";
 }
 
+// Generated tangents follow the normal map's uv set: with normalTexture.texCoord 1 (or
+// KHR_texture_transform's texCoord 1) the second set, whose +u runs along -y here, and whose
+// image-up (-v) runs along -x, so cross(N, T) = +x needs w = -1; the first set's +u runs along +x.
+TEST(GltfStaticFeatures, GeneratedTangentsFollowTheNormalMapsUvSet)
+{
+    ScratchDir dir;
+    FeatureGltf g;
+    const int texture = g.texture(dir, "n", test::texelImage(1, 1, {{128, 128, 255, 255}}));
+    const std::string index = std::to_string(texture);
+    const int onSecond = g.material(R"({"normalTexture":{"index":)" + index + R"(,"texCoord":1}})");
+    const int onFirst = g.material(R"({"normalTexture":{"index":)" + index + "}}");
+    const int byTransform = g.material(R"({"normalTexture":{"index":)" + index +
+                                       R"(,"extensions":{"KHR_texture_transform":{"texCoord":1}}}})");
+    g.extensionsUsed = {"KHR_texture_transform"};
+    for (const int material : {onSecond, onFirst, byTransform}) {
+        const int uv1 = g.accessor<float>({0, 0, 0, 1, 1, 1, 1, 0}, 5126, "VEC2", 4);
+        g.primitive(g.quadAttributes(0, 0, 1, 1, 0, 0, 0, 1, 1) + R"(,"TEXCOORD_1":)" + std::to_string(uv1), material);
+    }
+    const GltfModel model = loadGltfModel(g.save(dir, "tangents"));
+    ASSERT_EQ(model.primitives.size(), 3u);
+    const std::array<glm::vec4, 3> expected{glm::vec4(0, -1, 0, -1), glm::vec4(1, 0, 0, 1), glm::vec4(0, -1, 0, -1)};
+    for (size_t p = 0; p < 3; ++p) {
+        ASSERT_EQ(model.primitives[p].tangents.size(), 4u);
+        for (const glm::vec4& t : model.primitives[p].tangents) {
+            EXPECT_NEAR(glm::distance(glm::vec3(t), glm::vec3(expected[p])), 0.0f, 1e-5f) << "primitive " << p;
+            EXPECT_EQ(t.w, expected[p].w) << "primitive " << p;
+        }
+    }
+}
+
 } // namespace
 } // namespace lumar

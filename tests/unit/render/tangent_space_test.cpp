@@ -94,5 +94,20 @@ TEST(TangentSpace, UnusedAndDegenerateVerticesGetAUnitNormal)
     }
 }
 
+TEST(TangentSpace, NormalMapUvsPickTheSetTheNormalMapReads)
+{
+    const std::vector<glm::vec2> first(4, glm::vec2(0.0f)), second(4, glm::vec2(1.0f)), none;
+    EXPECT_EQ(normalMapUvs(0, first, second).data(), first.data());
+    EXPECT_EQ(normalMapUvs(1, first, second).data(), second.data());
+    // TEXCOORD_1 named but absent (or not one per vertex): the first set.
+    EXPECT_EQ(normalMapUvs(1, first, none).data(), first.data());
+    // Tangents from the second set: the quad's uvs turned a quarter, so +u runs along -y.
+    const std::vector<glm::vec2> straight = {{0, 1}, {1, 1}, {1, 0}, {0, 0}}, turned = {{1, 0}, {1, 1}, {0, 1}, {0, 0}};
+    for (const glm::vec4& t : generateTangents(kQuad, kQuadNormals, normalMapUvs(1, straight, turned), kQuadIndices))
+        EXPECT_NEAR(glm::dot(glm::vec3(t), glm::vec3(0, -1, 0)), 1.0f, 1e-5f);
+    for (const glm::vec4& t : generateTangents(kQuad, kQuadNormals, normalMapUvs(0, straight, turned), kQuadIndices))
+        EXPECT_NEAR(glm::dot(glm::vec3(t), glm::vec3(1, 0, 0)), 1.0f, 1e-5f);
+}
+
 } // namespace
 } // namespace lumar
