@@ -128,6 +128,11 @@ std::optional<LafortuneParams> materialPreset(std::string_view name)
     return preset->params;
 }
 
+glm::vec3 materialPresetEmission(std::string_view name)
+{
+    return name == "emissive" ? glm::vec3(kEmissivePresetRadiance) : glm::vec3(0.0f);
+}
+
 std::span<const std::string_view> materialPresetNames()
 {
     return kPresetNames;

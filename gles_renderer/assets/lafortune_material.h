@@ -42,6 +42,14 @@ LafortuneParams lafortuneFromMetallicRoughness(glm::vec3 baseColor, float metall
 // nothing for an unknown name. Every preset keeps rho_d + rho_s <= 1 per channel and
 // |C_i| <= 1, so it reflects no more energy than it receives.
 std::optional<LafortuneParams> materialPreset(std::string_view name);
+// Light the `emissive` preset gives a material that emits nothing of its own (a built-in
+// shape, a plain glTF material): linear radiance 4, white, so that with the lens's default
+// threshold (1) it feeds the bloom with 3 above it. A material that already emits (glTF's
+// emissiveFactor x KHR_materials_emissive_strength) keeps its own light under the preset.
+inline constexpr float kEmissivePresetRadiance = 4.0f;
+// The emission a preset lends a material without its own: kEmissivePresetRadiance for
+// "emissive", black for every other preset and for unknown names.
+glm::vec3 materialPresetEmission(std::string_view name);
 // All preset names, in a stable order (for error messages and documentation).
 std::span<const std::string_view> materialPresetNames();
 // True for presets meant to be used with the swirl tangent-rotation texture (brushed_metal):

@@ -121,6 +121,11 @@ void applyMaterialOverrides(GltfModel& model, const MaterialOverrides& overrides
             p.tangentRotation = 1.0f;
         }
 
+        // The emissive preset lights a material that emits nothing of its own (its light
+        // then reaches the lens effects' bright pass); one that emits keeps its own light.
+        if (entry.preset && material.emissiveFactor == glm::vec3(0.0f)) {
+            material.emissiveFactor = materialPresetEmission(*entry.preset);
+        }
         material.lafortune = p;
         material.hasLafortune = true;
     }

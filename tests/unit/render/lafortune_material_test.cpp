@@ -1,6 +1,6 @@
 // The metallic-roughness to Lafortune conversion against hand-computed values, the Fresnel
 // factor with phi = 1/6 against Schlick's formula, the presets' physical bounds, and the swirl
-// rotation texture against the circle tangent at every texel.
+// rotation texture against the circle tangent at every texel; the emissive preset's light.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/lafortune_material.h"
+#include "gles_renderer/assets/material_overrides.h"
 
 namespace lumar {
 namespace {
@@ -199,6 +201,29 @@ TEST(LafortuneMaterial, SwirlTextureAtKnownTexels)
     EXPECT_THROW(makeSwirlRotationTexture(0), InputError);
     EXPECT_THROW(makeSwirlRotationTexture(20000), InputError);
     EXPECT_EQ(makeSwirlRotationTexture(1).at(0, 0)[0], 128); // the centre itself: atan2(0, 0) = 0
+}
+
+// The emissive preset lights a material that emits nothing of its own with
+// kEmissivePresetRadiance (above the lens's default threshold of 1, so it blooms); one that
+// emits (glTF emissiveFactor x strength, here 8) keeps its light; other presets add none.
+TEST(LafortuneMaterial, EmissivePresetLightsWhatDoesNotEmit)
+{
+    EXPECT_GT(kEmissivePresetRadiance, 1.0f);
+    expectVec3Near(materialPresetEmission("emissive"), glm::vec3(kEmissivePresetRadiance), 0.0f);
+    expectVec3Near(materialPresetEmission("chrome"), glm::vec3(0.0f), 0.0f);
+    expectVec3Near(materialPresetEmission("gold"), glm::vec3(0.0f), 0.0f);
+
+    const auto withPreset = [](GltfModel model, const char* preset) {
+        MaterialOverrides overrides;
+        overrides.materials["*"].preset = preset;
+        applyMaterialOverrides(model, overrides);
+        return model.materials.at(0).emissiveFactor;
+    };
+    expectVec3Near(withPreset(makeBuiltinShape("cube"), "emissive"), glm::vec3(kEmissivePresetRadiance), 0.0f);
+    expectVec3Near(withPreset(makeBuiltinShape("cube"), "chrome"), glm::vec3(0.0f), 0.0f);
+    GltfModel lamp = makeBuiltinShape("sphere");
+    lamp.materials.at(0).emissiveFactor = glm::vec3(8.0f, 7.5f, 6.0f);
+    expectVec3Near(withPreset(lamp, "emissive"), glm::vec3(8.0f, 7.5f, 6.0f), 0.0f);
 }
 
 } // namespace
