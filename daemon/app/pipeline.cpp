@@ -29,6 +29,17 @@
 namespace lumar {
 namespace {
 
+// glibc's mmap threshold while the constructor loads: large transient blocks (file bytes,
+// decoded textures, the proxy models' copies, upload staging) are mapped on their own, so
+// freeing one hands its pages back at once. Left dynamic, the threshold rises to the first
+// large block freed and the later ones fragment the heap, where malloc_trim cannot return
+// what live blocks share pages with (issue 18, car.toml --replay: resident 238 -> 228 MB).
+constexpr int kLoadingMmapThreshold = 256 * 1024;
+// Once loaded: glibc's dynamic ceiling (32 MiB on 64 bits), so the blocks libapriltag
+// allocates per detection (0.3-1.8 MB at 720p) stay in their arena instead of costing an
+// mmap, a munmap and their page faults every frame.
+constexpr int kRunningMmapThreshold = 32 * 1024 * 1024;
+
 // The largest material texture side on a software rasteriser, which keeps every texture with
 // its mips in process memory: CesiumMilkTruck's 2048² base colour alone holds 22 MB as RGBA8
 // with mips, 5.6 MB at 1024², while at 1280x720 the truck rarely covers 1024 pixels.
@@ -269,7 +280,13 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
 {
     // Constructed first, so destroyed last: once the loaded models and maps below are freed.
     struct ReleaseWhenLoaded {
-        ~ReleaseWhenLoaded() { releaseLoadingMemory(); }
+        // mallopt only tunes: a value it refused leaves glibc's defaults, which still work.
+        ReleaseWhenLoaded() { (void)mallopt(M_MMAP_THRESHOLD, kLoadingMmapThreshold); }
+        ~ReleaseWhenLoaded()
+        {
+            (void)mallopt(M_MMAP_THRESHOLD, kRunningMmapThreshold);
+            releaseLoadingMemory();
+        }
     } releaseWhenLoaded;
     tracked_ = TrackedPoses(config_.tracking);
     std::unique_ptr<CaptureSource> source = openCaptureSource(withConversionDecided(config_.camera, config_));
