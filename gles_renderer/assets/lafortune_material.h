@@ -42,6 +42,9 @@ LafortuneParams lafortuneFromMetallicRoughness(glm::vec3 baseColor, float metall
 // nothing for an unknown name. Every preset keeps rho_d + rho_s <= 1 per channel and
 // |C_i| <= 1, so it reflects no more energy than it receives.
 std::optional<LafortuneParams> materialPreset(std::string_view name);
+// What light a preset lets through the surface: the `glass` preset is solid clear glass of
+// index 1.5 (refracting, untinted); every other preset none (factor 0).
+GltfTransmission materialPresetTransmission(std::string_view name);
 // All preset names, in a stable order (for error messages and documentation).
 std::span<const std::string_view> materialPresetNames();
 // True for presets meant to be used with the swirl tangent-rotation texture (brushed_metal):
