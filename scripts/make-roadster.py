@@ -2,7 +2,8 @@
 """Authors daemon/assets/models/lumar_roadster.glb: lumar's demo car, built from
 parametric shapes to the size of the paper's car (about 9.5k triangles, 7 materials), every
 material given in full with the LUMAR_materials_lafortune extension (see
-gles_renderer/LUMAR_materials_lafortune.md): red car paint, glass, tyre rubber, chrome rims
+gles_renderer/LUMAR_materials_lafortune.md): red car paint, see-through glass
+(KHR_materials_transmission), tyre rubber, chrome rims
 and trim, a brushed-metal grille with a swirl tangent-rotation texture, black plastic
 bumpers and emissive headlamps. Standard library only; deterministic output.
 
@@ -140,7 +141,7 @@ MATERIALS = [
     ("paint", {"diffuseFactor": [0.45, 0.02, 0.02], "specularFactor": [0.05, 0.05, 0.05],
                "lobeFactor": [-1, -1, 1], "exponentFactor": 500.0, "fresnelPhi": 0.2}, [0.5, 0.02, 0.02, 1], 0, 0.2, None),
     ("glass", {"diffuseFactor": [0.0, 0.0, 0.0], "specularFactor": [0.04, 0.04, 0.04],
-               "lobeFactor": [-1, -1, 1], "exponentFactor": 4096.0, "fresnelPhi": 0.17}, [0.02, 0.02, 0.03, 1], 0, 0.0, None),
+               "lobeFactor": [-1, -1, 1], "exponentFactor": 4096.0, "fresnelPhi": 0.17}, [0.85, 0.9, 0.95, 1], 0, 0.0, None),
     ("rubber", {"diffuseFactor": [0.035, 0.035, 0.035], "specularFactor": [0.02, 0.02, 0.02],
                 "lobeFactor": [-1, -1, 1], "exponentFactor": 4.0, "fresnelPhi": 0.1}, [0.04, 0.04, 0.04, 1], 0, 0.9, None),
     ("chrome", {"diffuseFactor": [0.0, 0.0, 0.0], "specularFactor": [0.95, 0.95, 0.95],
@@ -214,6 +215,11 @@ def main():
         material = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": base, "metallicFactor": metallic,
                                                             "roughnessFactor": roughness},
                     "extensions": {"LUMAR_materials_lafortune": lafortune}}
+        if name == "glass":
+            # See-through (KHR_materials_transmission; the base colour tints the light through):
+            # thin-walled, as a car's windows are, so the view goes straight through the cabin.
+            material["extensions"]["KHR_materials_transmission"] = {"transmissionFactor": 1.0}
+            material["extensions"]["KHR_materials_ior"] = {"ior": 1.5}
         if emissive:
             material["emissiveFactor"] = [1.0, 1.0, 1.0]
             material["extensions"]["KHR_materials_emissive_strength"] = {"emissiveStrength": max(emissive)}
@@ -226,7 +232,8 @@ def main():
     gltf = {
         "asset": {"version": "2.0", "generator": "lumar scripts/make-roadster.py",
                   "copyright": "lumar project; generated, no third-party content"},
-        "extensionsUsed": ["LUMAR_materials_lafortune", "KHR_materials_emissive_strength"],
+        "extensionsUsed": ["LUMAR_materials_lafortune", "KHR_materials_emissive_strength", "KHR_materials_transmission",
+                           "KHR_materials_ior"],
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "roadster", "mesh": 0}],
         "meshes": [{"name": "roadster", "primitives": primitives}],
         "materials": materials, "accessors": accessors, "bufferViews": views,

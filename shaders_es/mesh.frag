@@ -37,6 +37,10 @@ layout(std140) uniform Material {
     // Per texture slot (base, mr, normal, emissive, occlusion, specular, lobe, rotation): two
     // rows of the uv transform (KHR_texture_transform); row 0's w: 1 = TEXCOORD_1.
     vec4 uvTransforms[16];
+    // Light through the surface: x factor, y 1/ior, z dielectric F0, w 1 = transmission texture.
+    vec4 transmission;
+    vec4 transmissionTint; // rgb: tint x the volume's attenuation
+    vec4 transmissionUv[2];
 };
 
 uniform sampler2D uBaseColor;         // sRGB: base colour / rho_d
@@ -52,6 +56,7 @@ uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
 uniform samplerCube uMirrorMap;       // the environment map itself
 uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
 uniform sampler2D uOcclusion;         // linear r: ambient occlusion
+uniform sampler2D uTransmission;      // linear r: x the transmission factor
 
 // What the material and the view need, fixed when MeshPass links a variant of this program
 // for them (gles_renderer/scene/mesh_features.h). llvmpipe runs both sides of every branch,
@@ -87,6 +92,9 @@ uniform sampler2D uOcclusion;         // linear r: ambient occlusion
 #endif
 #ifndef ALPHA_MODE // 0 opaque, 1 mask, 2 blend
 #define ALPHA_MODE alphaUnlitOcclusion.x
+#endif
+#ifndef HAS_TRANSMISSION // KHR_materials_transmission or the glass preset
+#define HAS_TRANSMISSION (transmission.x > 0.0)
 #endif
 #ifndef HAS_SHADOW
 #define HAS_SHADOW (lightDirection.w > 0.5)
@@ -164,6 +172,32 @@ vec2 slotUv(int slot)
     return vec2(dot(row0.xyz, uv), dot(uvTransforms[2 * slot + 1].xyz, uv));
 }
 
+// Light through a transmissive surface (KHR_materials_transmission, _ior, _volume; the glass
+// preset; DESIGN.md §6.5), looked up in the object's own environment maps, which show what
+// surrounds it (the camera image on phantoms and the sky, the phantoms, the other objects)
+// as seen from its centre. The model is a single interface: the view ray -v is bent once at
+// the surface by 1/ior (refract) and the maps are read along the bent ray, as if the object
+// were glass all the way behind its front surface. Thin-walled materials (no volume,
+// thickness 0) do not bend it: the ray goes straight through. What this cannot show: the
+// bend where the light leaves (a real ball lens turns the image upside down twice over and
+// focuses; here it is bent once), total internal reflection and caustics, the object's own
+// other parts (its maps are drawn without it: a car's seats behind its windscreen), the
+// parallax of things close to the glass (the maps are seen from the object's centre), and
+// attenuation that varies with the path length (the volume's thickness is one number).
+// `gloss`: the lobe's glossiness before Fresnel (rough glass reads the blurred maps).
+vec3 transmittedRadiance(vec3 v, vec3 n, float gloss)
+{
+    vec3 bent = refract(-v, n, transmission.y);
+    return environmentRadiance(environmentFromCamera * bent, gloss);
+}
+
+vec2 transmissionTexelUv()
+{
+    vec4 row0 = transmissionUv[0];
+    vec3 uv = vec3(row0.w > 0.5 ? vUv1 : vUv, 1.0);
+    return vec2(dot(row0.xyz, uv), dot(transmissionUv[1].xyz, uv));
+}
+
 void main()
 {
     // Base colour and alpha first: a MASK cut-out ends here, before any other lookup.
@@ -220,6 +254,7 @@ void main()
     vec3 lobe;
     float exponent;
     float rotation;
+    float dielectric = 1.0; // the share of the surface that is not metal (transmission's)
     if (IS_LAFORTUNE) {
         rhoD = baseColorFactor.rgb * base;
         rhoS = specularFactor.rgb;
@@ -241,7 +276,8 @@ void main()
         float roughness = clamp(metallicRoughness.y * mr.g, 0.0, 1.0);
         vec3 colour = baseColorFactor.rgb * base;
         rhoD = colour * (1.0 - metallic);
-        rhoS = mix(vec3(kDielectricSpecular), colour, metallic);
+        rhoS = mix(vec3(HAS_TRANSMISSION ? transmission.z : kDielectricSpecular), colour, metallic);
+        dielectric = 1.0 - metallic;
         lobe = vec3(-1.0, -1.0, 1.0);
         float alpha = max(roughness * roughness, 1e-4);
         exponent = clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
@@ -276,6 +312,18 @@ void main()
     vec3 specular = occlusion * shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;
+    if (HAS_TRANSMISSION) {
+        // glTF: the dielectric's diffuse turns into transmission by `share`; what passes is
+        // what the Fresnel-weighted reflection (rho_s' = rho_s + (1 - rho_s) f, the paper's
+        // factor, as in specularWeight) leaves, tinted.
+        float share = transmission.x * dielectric;
+        if (transmission.w > 0.5)
+            share *= texture(uTransmission, transmissionTexelUv()).r;
+        vec3 reflected = rhoS + (1.0 - rhoS) * shade.fresnel;
+        float gloss = clamp(log2(max(exponent, 1.0)) / kLog2MirrorExponent, 0.0, 1.0);
+        radiance = (1.0 - share) * diffuse + specular +
+                   share * (1.0 - reflected) * transmissionTint.rgb * base * transmittedRadiance(v, n, gloss);
+    }
     if (HAS_EMISSION)
         radiance += emissiveNormalScale.rgb * texture(uEmissive, slotUv(3)).rgb;
 

@@ -100,6 +100,7 @@ int benchCommand(const BenchCommandOptions& options)
                                                               {"sh", &RenderStats::sh},
                                                               {"prefilter", &RenderStats::prefilter},
                                                               {"shading", &RenderStats::shading},
+                                                              {"transparent", &RenderStats::transparent},
                                                               {"shadows", &RenderStats::shadows},
                                                               {"receivers", &RenderStats::receivers},
                                                               {"background", &RenderStats::background},

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string_view>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -263,6 +265,103 @@ std::string formatNumber(double v)
     return text;
 }
 
+// One number of a Khronos material extension: absent is `fallback`; else a finite number
+// within [lo, hi] (`loExclusive`: above lo), or InputError "WHAT FIELD: ...".
+float extensionNumber(const tinygltf::Value& extension, const char* field, float fallback, double lo, double hi,
+                      bool loExclusive, const std::string& what)
+{
+    if (!extension.Has(field)) {
+        return fallback;
+    }
+    const tinygltf::Value& value = extension.Get(field);
+    if (!value.IsNumber()) {
+        throw InputError(what + " " + field + ": expected a number");
+    }
+    const double v = value.GetNumberAsDouble();
+    if (!std::isfinite(v) || (loExclusive ? v <= lo : v < lo) || v > hi) {
+        throw InputError(what + " " + field + ": " + formatNumber(v) + " is outside " + (loExclusive ? "(" : "[") +
+                         formatNumber(lo) + ", " + formatNumber(hi) + "]");
+    }
+    return float(v);
+}
+
+// The extension object `name` of `material`, or null; InputError when it is not an object.
+const tinygltf::Value* materialExtension(const tinygltf::Material& material, const char* name, const std::string& what)
+{
+    const auto found = material.extensions.find(name);
+    if (found == material.extensions.end()) {
+        return nullptr;
+    }
+    if (!found->second.IsObject()) {
+        throw InputError(what + " " + name + ": expected an object");
+    }
+    return &found->second;
+}
+
+// KHR_materials_transmission (factor, texture), KHR_materials_ior and KHR_materials_volume
+// (thickness, attenuation). Ranges are the extensions' own; bounds the specifications leave
+// open are 1e6 (model units), beyond which float arithmetic in the shader overflows.
+void readTransmission(const tinygltf::Material& source, const std::string& what, GltfMaterial& material,
+                      TextureTable& textures)
+{
+    GltfTransmission& t = material.transmission;
+    t.tint = glm::vec3(material.baseColorFactor);
+    if (const tinygltf::Value* e = materialExtension(source, "KHR_materials_transmission", what)) {
+        const std::string where = what + " KHR_materials_transmission";
+        t.factor = extensionNumber(*e, "transmissionFactor", 0.0f, 0.0, 1.0, false, where);
+        if (e->Has("transmissionTexture")) {
+            const tinygltf::Value& info = e->Get("transmissionTexture");
+            const std::string field = where + " transmissionTexture";
+            if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt() ||
+                info.Get("index").GetNumberAsInt() < 0) {
+                throw InputError(field + ": expected a textureInfo object with a non-negative index");
+            }
+            int texCoord = 0;
+            if (info.Has("texCoord")) {
+                if (!info.Get("texCoord").IsInt() || info.Get("texCoord").GetNumberAsInt() < 0) {
+                    throw InputError(field + " texCoord: expected a non-negative integer");
+                }
+                texCoord = info.Get("texCoord").GetNumberAsInt();
+            }
+            tinygltf::ExtensionMap extensions;
+            if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+                for (const std::string& key : info.Get("extensions").Keys()) {
+                    extensions[key] = info.Get("extensions").Get(key);
+                }
+            }
+            t.uvTransform = uvTransform(texCoord, extensions, field);
+            t.texture = textures.resolve(info.Get("index").GetNumberAsInt(), texCoord, false, field);
+        }
+    }
+    if (const tinygltf::Value* e = materialExtension(source, "KHR_materials_ior", what)) {
+        const std::string where = what + " KHR_materials_ior";
+        // The schema allows ior >= 1 or exactly 0 (full reflectance, kept from
+        // KHR_materials_pbrSpecularGlossiness); anything in between is no material.
+        t.ior = extensionNumber(*e, "ior", 1.5f, 0.0, 1e6, false, where);
+        if (t.ior != 0.0f && t.ior < 1.0f) {
+            throw InputError(where + " ior: " + formatNumber(t.ior) +
+                             " is below 1 (only 0, the extension's special value, may be)");
+        }
+    }
+    if (const tinygltf::Value* e = materialExtension(source, "KHR_materials_volume", what)) {
+        const std::string where = what + " KHR_materials_volume";
+        t.thickness = extensionNumber(*e, "thicknessFactor", 0.0f, 0.0, 1e6, false, where);
+        t.attenuationDistance = extensionNumber(*e, "attenuationDistance", std::numeric_limits<float>::infinity(), 0.0,
+                                                std::numeric_limits<double>::infinity(), true, where);
+        if (e->Has("attenuationColor")) {
+            const tinygltf::Value& c = e->Get("attenuationColor");
+            if (!c.IsArray() || c.ArrayLen() != 3) {
+                throw InputError(where + " attenuationColor: expected 3 numbers within [0, 1]");
+            }
+            std::vector<double> values;
+            for (int i = 0; i < 3; ++i) {
+                values.push_back(c.Get(i).IsNumber() ? c.Get(i).GetNumberAsDouble() : std::nan(""));
+            }
+            t.attenuationColor = vectorFactor<3>(values, glm::vec3(1.0f), where + " attenuationColor");
+        }
+    }
+}
+
 // Typed access to the fields of one LUMAR_materials_lafortune object (see
 // LUMAR_materials_lafortune.md). tinygltf drops JSON nulls, empty arrays and empty objects
 // while parsing, so those read as absent fields.
@@ -468,6 +567,7 @@ ConvertedMaterials convertMaterials(const tinygltf::Model& model, const std::str
         slot(GltfTextureSlot::Occlusion) = uvTransform(source.occlusionTexture.texCoord,
                                                        source.occlusionTexture.extensions, what + " occlusionTexture");
         readAlphaAndUnlit(source, what, material);
+        readTransmission(source, what, material, textures);
         if (const auto lafortune = source.extensions.find(kLafortuneExtension); lafortune != source.extensions.end()) {
             readLafortuneExtension(lafortune->second, materialLabel(m, source.name), material, textures);
         }

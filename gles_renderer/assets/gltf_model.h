@@ -5,6 +5,7 @@
 
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,6 +74,24 @@ struct LafortuneParams {
     float tangentRotation = 0.0f;       // angle / pi in [0, 1] (x the rotation texture's red)
 };
 
+// KHR_materials_transmission (+ KHR_materials_ior, KHR_materials_volume). factor 0: none.
+struct GltfTransmission {
+    float factor = 0.0f;         // share of the light not reflected that passes through (x texel red)
+    int texture = -1;            // index into GltfModel::textures, linear r; -1: none
+    GltfUvTransform uvTransform; // of `texture`
+    // Index of refraction: >= 1, or 0 (the extension's special value: F0 = 1, no bending).
+    // Sets the dielectric F0 = ((ior - 1) / (ior + 1))^2 of a metallic-roughness material.
+    float ior = 1.5f;
+    // KHR_materials_volume: 0 is thin-walled (the view passes straight through); above 0 the
+    // object is solid and bends the view at its surface. Model units.
+    float thickness = 0.0f;
+    glm::vec3 attenuationColor{1.0f}; // the colour white light turns after attenuationDistance
+    float attenuationDistance = std::numeric_limits<float>::infinity(); // > 0, model units
+    // What tints the light through: glTF's base colour factor (x the base-colour texel); a
+    // preset's clear glass is white.
+    glm::vec3 tint{1.0f};
+};
+
 struct GltfMaterial {
     std::string name;
     // True when LUMAR_materials_lafortune or a sidecar gave the full parameter set; false for
@@ -101,6 +120,10 @@ struct GltfMaterial {
     bool unlit = false;             // KHR_materials_unlit: base colour x vertex colour x texel
     GltfAlphaMode alphaMode = GltfAlphaMode::Opaque;
     float alphaCutoff = 0.5f; // MASK only
+    // Light through the surface (KHR_materials_transmission, _ior, _volume; the `glass`
+    // preset), drawn after the opaque primitives as a refraction lookup in the object's own
+    // environment maps plus its Fresnel-weighted reflection (shaders_es/transmission.glsl).
+    GltfTransmission transmission;
 };
 
 struct GltfPrimitive {

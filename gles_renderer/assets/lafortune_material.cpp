@@ -70,8 +70,8 @@ const std::array<Preset, 7> kPresets = {{
     // glossy finish, n = 60 (the glossy-2 map range), Schlick Fresnel.
     {"plastic", params(glm::vec3(0.8f), glm::vec3(0.05f), kPhongMirrorLobe, 60.0f, kMetallicRoughnessFresnelPhi),
      false},
-    // Clear glass: no diffuse, F0 of index 1.5, a perfect mirror with Schlick's Fresnel. Light
-    // through the glass (transparency, refraction) is not part of the BRDF; it comes later.
+    // Clear glass: no diffuse, F0 of index 1.5, a perfect mirror with Schlick's Fresnel. The
+    // light through the glass is materialPresetTransmission's, not the BRDF's.
     {"glass",
      params(glm::vec3(0.0f), glm::vec3(kDielectricSpecular), kPhongMirrorLobe, kMaxLafortuneExponent,
             kMetallicRoughnessFresnelPhi),
@@ -131,6 +131,19 @@ std::optional<LafortuneParams> materialPreset(std::string_view name)
 glm::vec3 materialPresetEmission(std::string_view name)
 {
     return name == "emissive" ? glm::vec3(kEmissivePresetRadiance) : glm::vec3(0.0f);
+}
+
+GltfTransmission materialPresetTransmission(std::string_view name)
+{
+    GltfTransmission t;
+    if (name == "glass") {
+        t.factor = 1.0f;
+        t.ior = 1.5f; // F0 0.04, the preset's rho_s
+        // Any thickness above 0 makes it solid (the view bends at the surface); with no
+        // attenuation its value changes nothing else.
+        t.thickness = 1.0f;
+    }
+    return t;
 }
 
 std::span<const std::string_view> materialPresetNames()

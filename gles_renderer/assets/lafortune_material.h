@@ -50,6 +50,9 @@ inline constexpr float kEmissivePresetRadiance = 4.0f;
 // The emission a preset lends a material without its own: kEmissivePresetRadiance for
 // "emissive", black for every other preset and for unknown names.
 glm::vec3 materialPresetEmission(std::string_view name);
+// What light a preset lets through the surface: the `glass` preset is solid clear glass of
+// index 1.5 (refracting, untinted); every other preset none (factor 0).
+GltfTransmission materialPresetTransmission(std::string_view name);
 // All preset names, in a stable order (for error messages and documentation).
 std::span<const std::string_view> materialPresetNames();
 // True for presets meant to be used with the swirl tangent-rotation texture (brushed_metal):

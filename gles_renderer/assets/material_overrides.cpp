@@ -78,6 +78,10 @@ void applyMaterialOverrides(GltfModel& model, const MaterialOverrides& overrides
                                 ? material.lafortune
                                 : lafortuneFromMetallicRoughness(glm::vec3(material.baseColorFactor),
                                                                  material.metallicFactor, material.roughnessFactor);
+        // A preset says what passes through, too: glass lets light through, chrome none.
+        if (entry.preset) {
+            material.transmission = materialPresetTransmission(*entry.preset);
+        }
         p.diffuse = entry.diffuse.value_or(p.diffuse);
         p.specular = entry.specular.value_or(p.specular);
         p.lobe = entry.lobe.value_or(p.lobe);

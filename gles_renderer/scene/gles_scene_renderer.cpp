@@ -302,19 +302,22 @@ private:
             timer.split(stats_.receivers);
         if (lens_)
             lens_->beginVirtual();
+        if (profile_)
+            meshes_.onTransparentStart([&] { timer.split(stats_.shading); });
         meshes_.draw(frame_, models_, items, maps, -1,
                      shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
+        meshes_.onTransparentStart(nullptr);
         if (lens_) {
             lens_->endVirtual();
             if (profile_)
-                timer.split(stats_.shading);
+                timer.split(stats_.transparent);
             lens_->apply(target_, lens_->reach(models_, items, frame_.clipFromCamera));
             if (profile_)
                 timer.split(stats_.post);
         }
         target_.finishFrame();
         if (profile_ && !lens_)
-            timer.split(stats_.shading);
+            timer.split(stats_.transparent);
         // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
         // before readback() overlaps with it.
         glFlush();

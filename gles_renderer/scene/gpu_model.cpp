@@ -133,6 +133,22 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
         block.uvTransforms[2 * slot] = glm::vec4(rows[0], m.uvTransforms[slot].texCoord == 1 ? 1.0f : 0.0f);
         block.uvTransforms[2 * slot + 1] = glm::vec4(rows[1], 0.0f);
     }
+    const GltfTransmission& t = m.transmission;
+    const bool transmissive = t.factor > 0.0f;
+    if (transmissive) {
+        // F0 = ((ior - 1) / (ior + 1))^2 (KHR_materials_ior; 1 for its special value 0).
+        const float f0 = t.ior == 0.0f ? 1.0f : std::pow((t.ior - 1.0f) / (t.ior + 1.0f), 2.0f);
+        block.transmission =
+            glm::vec4(t.factor, t.thickness > 0.0f && t.ior >= 1.0f ? 1.0f / t.ior : 1.0f, f0, has(t.texture));
+        // Beer-Lambert over the thickness (KHR_materials_volume): colour^(thickness/distance).
+        glm::vec3 attenuation(1.0f);
+        if (t.thickness > 0.0f && std::isfinite(t.attenuationDistance))
+            attenuation = glm::pow(t.attenuationColor, glm::vec3(t.thickness / t.attenuationDistance));
+        block.transmissionTint = glm::vec4(t.tint * attenuation, 1.0f);
+        const std::array<glm::vec3, 2> rows = t.uvTransform.rows();
+        block.transmissionUv[0] = glm::vec4(rows[0], t.uvTransform.texCoord == 1 ? 1.0f : 0.0f);
+        block.transmissionUv[1] = glm::vec4(rows[1], 0.0f);
+    }
     if (m.hasLafortune) {
         const LafortuneParams& l = m.lafortune;
         block.baseColorFactor = glm::vec4(l.diffuse, m.baseColorFactor.a);
@@ -155,6 +171,8 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     material.lobe = textureOr(m.lobeTexture, defaults.white);
     material.tangentRotation = textureOr(m.tangentRotationTexture, defaults.white);
     material.occlusion = textureOr(m.occlusionTexture, defaults.white);
+    material.transmission = textureOr(transmissive ? t.texture : -1, defaults.white);
+    material.transmissive = transmissive;
     material.doubleSided = m.doubleSided;
     material.alphaMode = m.alphaMode;
     const auto bit = [](bool on, uint32_t feature) { return on ? feature : 0U; };
@@ -168,7 +186,8 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
         bit(glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))), mesh_feature::kEmission) |
         bit(block.alphaUnlitOcclusion.w > 0.0f, mesh_feature::kOcclusionTexture) | bit(m.unlit, mesh_feature::kUnlit) |
         bit(m.alphaMode == GltfAlphaMode::Mask, mesh_feature::kAlphaMask) |
-        bit(m.alphaMode == GltfAlphaMode::Blend, mesh_feature::kAlphaBlend);
+        bit(m.alphaMode == GltfAlphaMode::Blend, mesh_feature::kAlphaBlend) |
+        bit(transmissive, mesh_feature::kTransmission);
     return material;
 }
 
@@ -267,7 +286,8 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
                                                      {"specular", material.specularTexture},
                                                      {"lobe", material.lobeTexture},
                                                      {"tangent rotation", material.tangentRotationTexture},
-                                                     {"occlusion", material.occlusionTexture}};
+                                                     {"occlusion", material.occlusionTexture},
+                                                     {"transmission", material.transmission.texture}};
         for (const auto& [slot, texture] : slots) {
             checkTextureIndex(model, m, slot, texture);
             if (texture >= 0)

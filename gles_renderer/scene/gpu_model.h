@@ -32,11 +32,14 @@ struct GpuMaterial {
     GLuint lobe = 0;
     GLuint tangentRotation = 0;
     GLuint occlusion = 0;
+    GLuint transmission = 0;
     bool doubleSided = false;
     uint32_t features = 0; // mesh_feature bits of the material (mesh_features.h)
     // Mask and Blend primitives are drawn in the shaded pass alone (a depth-only prepass
     // must skip them); Blend ones after the opaque ones, back to front, without depth writes.
     GltfAlphaMode alphaMode = GltfAlphaMode::Opaque;
+    // Light passes through (GltfTransmission): drawn with the Blend ones, after the opaque.
+    bool transmissive = false;
 };
 
 struct GpuPrimitive {

@@ -29,6 +29,7 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kEmission, "HAS_EMISSION"},
         {mesh_feature::kOcclusionTexture, "HAS_OCCLUSION_TEXTURE"},
         {mesh_feature::kUnlit, "IS_UNLIT"},
+        {mesh_feature::kTransmission, "HAS_TRANSMISSION"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
         {mesh_feature::kWritesRadiance, "WRITES_RADIANCE"},

@@ -24,8 +24,9 @@ inline constexpr uint32_t kNormalMap = 1U << 5;
 inline constexpr uint32_t kEmission = 1U << 6;
 inline constexpr uint32_t kOcclusionTexture = 1U << 10;
 inline constexpr uint32_t kUnlit = 1U << 11;
-inline constexpr uint32_t kAlphaMask = 1U << 12;  // glTF alphaMode MASK
-inline constexpr uint32_t kAlphaBlend = 1U << 13; // BLEND (neither: OPAQUE)
+inline constexpr uint32_t kAlphaMask = 1U << 12;    // glTF alphaMode MASK
+inline constexpr uint32_t kAlphaBlend = 1U << 13;   // BLEND (neither: OPAQUE)
+inline constexpr uint32_t kTransmission = 1U << 14; // light through the surface (glass)
 // Of the view (viewFeatures).
 inline constexpr uint32_t kShadow = 1U << 7;
 inline constexpr uint32_t kRgbmMaps = 1U << 8;

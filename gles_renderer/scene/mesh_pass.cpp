@@ -69,6 +69,7 @@ public:
         bindTexture(MeshPass::kLobeUnit, material->lobe);
         bindTexture(MeshPass::kTangentRotationUnit, material->tangentRotation);
         bindTexture(MeshPass::kOcclusionUnit, material->occlusion);
+        bindTexture(MeshPass::kTransmissionUnit, material->transmission);
         setCulling(!material->doubleSided);
     }
 
@@ -132,7 +133,8 @@ const MeshPass::Variant& MeshPass::variant(uint32_t features) const
                                                        {"uGlossy2Map", kGlossy2MapUnit},
                                                        {"uMirrorMap", kMirrorMapUnit},
                                                        {"uShadowMap", kShadowMapUnit},
-                                                       {"uOcclusion", kOcclusionUnit}};
+                                                       {"uOcclusion", kOcclusionUnit},
+                                                       {"uTransmission", kTransmissionUnit}};
     for (const auto& [name, unit] : samplers) {
         const GLint location = optionalUniformLocation(program, name);
         if (location >= 0)
@@ -193,6 +195,8 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         drawItem(items[i], maps[i], models, state, -1, -1, detail, focalPixels, &blended_, i, true);
     if (cameraPhantoms)
         drawCameraPhantoms(*camera, models, items, maps, skip, state, detail, focalPixels);
+    if (transparentStart_)
+        transparentStart_();
     if (!blended_.empty()) {
         const bool rgbmMap = frame.frameParams.y > 0.5f && frame.frameParams.z > 0.5f;
         drawBlended(items, maps, models, state, !rgbmMap);
@@ -207,19 +211,31 @@ void MeshPass::drawBlended(std::span<const DrawItem> items, std::span<const IblM
     std::sort(blended_.begin(), blended_.end(),
               [](const BlendedPrimitive& a, const BlendedPrimitive& b) { return a.depth > b.depth; });
     if (canBlend) {
-        glEnable(GL_BLEND);
         // The destination's alpha is kept: the frame's alpha is not coverage.
         glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
         glDepthMask(GL_FALSE);
     }
+    bool blending = false;
     for (const BlendedPrimitive& b : blended_) {
+        const GpuModel& model = models[size_t(items[b.item].model)];
+        // Glass that is not BLEND too covers what lies behind it: the light through comes
+        // from its maps, not from the framebuffer (and an RGBM radiance target keeps its
+        // encoding's scale in alpha, which blending would not write).
+        const bool blend = canBlend && model.materials[b.primitive->material].alphaMode == GltfAlphaMode::Blend;
+        if (blend != blending) {
+            if (blend)
+                glEnable(GL_BLEND);
+            else
+                glDisable(GL_BLEND);
+            blending = blend;
+        }
         state.bindMaps(maps[b.item]);
-        drawPrimitive(items[b.item], models[size_t(items[b.item].model)], *b.primitive, state, -1, -1, true);
+        drawPrimitive(items[b.item], model, *b.primitive, state, -1, -1, true);
     }
-    if (canBlend) {
+    if (blending)
         glDisable(GL_BLEND);
+    if (canBlend)
         glDepthMask(GL_TRUE);
-    }
 }
 
 void MeshPass::drawCameraPhantoms(const PhantomCamera& camera, const std::vector<GpuModel>& models,
@@ -279,7 +295,10 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
         detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
                                 : model.primitives;
     for (const GpuPrimitive& primitive : primitives) {
-        if (blended != nullptr && model.materials[primitive.material].alphaMode == GltfAlphaMode::Blend) {
+        const GpuMaterial& material = model.materials[primitive.material];
+        // Glass too: it shows what its maps hold behind it, and blended ones behind it must
+        // already be drawn for the frame to be sorted.
+        if (blended != nullptr && (material.alphaMode == GltfAlphaMode::Blend || material.transmissive)) {
             const glm::dvec4 centre =
                 item.cameraFromModel * primitive.modelFromMesh * glm::dvec4(glm::dvec3(primitive.centre), 1.0);
             blended->push_back({centre.z, itemIndex, &primitive});

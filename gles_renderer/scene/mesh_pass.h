@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <utility>
@@ -36,7 +37,8 @@ public:
     // phantom.frag's camera image and the phantoms' depth as the frame camera sees them.
     static constexpr GLuint kCameraImageUnit = 12;
     static constexpr GLuint kCameraDepthUnit = 13;
-    static constexpr GLuint kOcclusionUnit = 14; // glTF occlusionTexture (linear r)
+    static constexpr GLuint kOcclusionUnit = 14;    // glTF occlusionTexture (linear r)
+    static constexpr GLuint kTransmissionUnit = 15; // KHR_materials_transmission's texture (linear r)
 
     // How phantoms show the camera image in a view that is not the frame camera's (an
     // environment map's cube face): phantom.frag projects each fragment into the image.
@@ -68,6 +70,10 @@ public:
               std::span<const IblMaps* const> maps, int skip = -1, Phantoms phantoms = Phantoms::Shaded,
               Detail detail = Detail::Full, double focalPixels = 0.0, const PhantomCamera* camera = nullptr) const;
 
+    // Called by every draw() once the opaque items are drawn, before the blended and
+    // transmissive ones (the renderer's `transparent` stage starts there); empty: nothing.
+    void onTransparentStart(std::function<void()> hook) { transparentStart_ = std::move(hook); }
+
     // How many pixels the longest side of `item`'s model spans, seen at its bounding-box
     // centre's distance with focal length `focalPixels`; infinite where the camera is inside
     // its bounding sphere.
@@ -88,7 +94,8 @@ private:
     // The variant for `features`, linked on first use.
     const Variant& variant(uint32_t features) const;
 
-    // A primitive with alphaMode BLEND, held back to be drawn after the opaque ones.
+    // A primitive with alphaMode BLEND or a transmissive material, held back to be drawn
+    // after the opaque ones.
     struct BlendedPrimitive {
         double depth; // of its bounding-box centre along the view: drawn farthest first
         size_t item;
@@ -134,6 +141,7 @@ private:
     GLint depthOnlyCameraFromMeshLocation_;
     GlBuffer frameUniforms_;
     GLuint shadowMap_ = 0;
+    std::function<void()> transparentStart_;
 };
 
 } // namespace lumar

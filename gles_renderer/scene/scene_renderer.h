@@ -124,7 +124,8 @@ struct RenderStats {
     StageTime sh;              // SH projection and the diffuse map
     StageTime prefilter;       // the glossy maps
     StageTime background;      // the camera image drawn, kept for the maps, the phantoms' depth
-    StageTime shading;         // the objects in the frame
+    StageTime shading;         // the objects in the frame (opaque and cut-out)
+    StageTime transparent;     // ... the blended and transmissive ones after them, back to front
     StageTime shadows;         // the shadow map
     StageTime receivers;       // the shadows and contact darkening on the real surfaces
     // The camera image projected into the environment built from it, and that environment's

@@ -73,6 +73,15 @@ struct MaterialUniforms {
     glm::vec4 uvTransforms[16] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0},
                                   {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0},
                                   {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
+    // Light through the surface (GltfTransmission): x: the factor (0: none), y: 1 / ior, the
+    // bend at the surface (1: thin-walled, or ior 0), z: the dielectric F0 of the ior, w: 1 =
+    // a transmission texture (its red x the factor).
+    glm::vec4 transmission{0.0f, 1.0f, 0.04f, 0.0f};
+    // rgb: the tint of the light through (base colour or white, times the volume's
+    // attenuation over its thickness); w: unused.
+    glm::vec4 transmissionTint{1.0f};
+    // The transmission texture's uv transform, as uvTransforms' rows.
+    glm::vec4 transmissionUv[2] = {{1, 0, 0, 0}, {0, 1, 0, 0}};
 };
 static_assert(offsetof(MaterialUniforms, baseColorFactor) == 0);
 static_assert(offsetof(MaterialUniforms, emissiveNormalScale) == 16);
@@ -82,6 +91,7 @@ static_assert(offsetof(MaterialUniforms, lobeFactor) == 64);
 static_assert(offsetof(MaterialUniforms, textureFlags) == 80);
 static_assert(offsetof(MaterialUniforms, alphaUnlitOcclusion) == 96);
 static_assert(offsetof(MaterialUniforms, uvTransforms) == 112);
-static_assert(sizeof(MaterialUniforms) == 368);
+static_assert(offsetof(MaterialUniforms, transmission) == 368);
+static_assert(sizeof(MaterialUniforms) == 432);
 
 } // namespace lumar

@@ -115,7 +115,7 @@ TEST(MeshVariantDefines, FixEveryFeatureOnce)
     size_t lines = 0;
     for (const char c : defines)
         lines += c == '\n' ? 1 : 0;
-    EXPECT_EQ(lines, 13U); // twelve features and the alpha mode
+    EXPECT_EQ(lines, 14U); // thirteen features and the alpha mode
 }
 
 } // namespace
