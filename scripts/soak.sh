@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Soak (issue 16): runs `lumar run` on the fake camera for MINUTES and samples, every INTERVAL
 # seconds, the process' resident memory, open file descriptors, threads, the GL objects alive
-# (textures, buffers, vertex arrays, framebuffers, renderbuffers, samplers, programs, shaders:
-# status.json's gl_objects, counted by the renderer's owners of GL names) and the daemon's own
-# fps, frames and capture-to-present latency (status.json) into a CSV, then plots the curves
-# (scripts/soak_plot.py: a PNG with matplotlib, Debian's python3-matplotlib; an SVG without)
-# and prints whether RSS, fds, threads or GL objects grew after the warm-up (the first fifth).
+# (textures, buffers, vertex arrays, framebuffers, renderbuffers, samplers, programs,
+# shaders: status.json's gl_objects, a census of the context, gl/gl_census.h) and the daemon's
+# own fps, frames and capture-to-present latency (status.json) into a CSV, then plots the
+# curves (scripts/soak_plot.py: a PNG with matplotlib, Debian's python3-matplotlib; an SVG
+# without) and prints whether RSS, fds, threads or GL objects grew after the warm-up (the
+# first fifth of the run).
 #   scripts/soak.sh MINUTES [--interval S] [--out DIR] [--config FILE] [--lumar BINARY]
 # Default scene: the fake camera at 320x240, 10 fps (cheap enough to run beside a build);
 # --config runs any scene instead (its [output] is replaced by a status file in DIR).
