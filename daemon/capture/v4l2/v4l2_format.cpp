@@ -46,14 +46,16 @@ uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats, uint32_t 
 
 FrameSize chooseFrameSize(const std::vector<FrameSize>& sizes, FrameSize requested)
 {
-    const auto area = [](FrameSize s) { return int64_t(s.width) * int64_t(s.height); };
+    // Unsigned: a driver's 0xffffffff x 0xffffffff overflowed int64_t (fuzz_v4l2_driver).
+    const auto area = [](FrameSize s) { return uint64_t(s.width) * uint64_t(s.height); };
+    const auto distance = [](uint64_t a, uint64_t b) { return a > b ? a - b : b - a; };
     FrameSize best = sizes.front();
     for (const FrameSize& s : sizes) {
         if (s.width == requested.width && s.height == requested.height) {
             return s;
         }
-        const int64_t difference = std::llabs(area(s) - area(requested));
-        const int64_t bestDifference = std::llabs(area(best) - area(requested));
+        const uint64_t difference = distance(area(s), area(requested));
+        const uint64_t bestDifference = distance(area(best), area(requested));
         if (difference < bestDifference || (difference == bestDifference && area(s) > area(best))) {
             best = s;
         }
