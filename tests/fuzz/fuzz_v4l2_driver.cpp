@@ -20,6 +20,7 @@
 #include <cerrno>
 #include <cstdarg>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include <linux/videodev2.h>
@@ -43,6 +44,7 @@ struct Driver {
     size_t size = 0;
     size_t at = 0;
     size_t calls = 0;
+    bool interrupted = false; // the last answer was EINTR
 
     uint8_t byte()
     {
@@ -69,7 +71,10 @@ int answer(unsigned long request, void* arg)
 {
     Driver& d = gDriver;
     ++d.calls;
-    switch (d.byte() & 7) {
+    const uint8_t outcome = d.byte() & 7;
+    if (outcome != 4)
+        d.interrupted = false;
+    switch (outcome) {
     case 0:
         return EINVAL;
     case 1:
@@ -79,7 +84,11 @@ int answer(unsigned long request, void* arg)
     case 3:
         return ENODEV;
     case 4:
-        return EINTR; // v4l2Ioctl asks again
+        // Interrupted (v4l2Ioctl asks again). A kernel says EINTR for a signal, not forever:
+        // never twice in a row (a driver answering only EINTR kept the target busy for ever).
+        if (!std::exchange(d.interrupted, true))
+            return EINTR;
+        break;
     default:
         break;
     }
@@ -163,7 +172,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         controls.whiteBalanceK = (data[5] & 32) ? lumar::CameraControlsConfig::kAuto : int(u16(10));
     if (data[5] & 8)
         controls.powerLineHz = (data[5] & 64) ? 50 : 60;
-    gDriver = Driver{data + kHeaderBytes, size - kHeaderBytes, 0, 0};
+    gDriver = Driver{data + kHeaderBytes, size - kHeaderBytes, 0, 0, false};
 
     const std::string device = "/dev/fuzz";
     try {
