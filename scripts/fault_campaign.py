@@ -13,11 +13,22 @@ and measures the recovery time: from the good state's return (or the fault's inj
 faults lumar rides through) to status.json saying so with frames advancing. At the end a
 SIGTERM in the middle of a reload must stop lumar with exit 0. Prints the table of faults.
 
-Not injected here (they need the virtual V4L2 camera, see tests/integration/v4l2): camera
-unplug, stalls, corrupt and short frames. SIGUSR1 is not sent: lumar does not handle it (its
-default action ends a process, as for any daemon that does not claim it).
+Camera faults (--camera, or --camera-only) run `lumar run` against the user-space virtual V4L2
+camera (tests/vcam's liblumar_vcam.so, preloaded), one process per fault because the camera
+reads its faults when it is opened: unplugged after 1.5 s of every connection (and back at
+once), a 5 s stall 15 s into each connection (longer than camera.timeout_ms = 2000), 1 %
+corrupt MJPEG frames, and short frames (every 50th YUYV frame half-filled). lumar runs under
+a stand-in for systemd's notify socket (NOTIFY_SOCKET, WATCHDOG_USEC=200000), so each STATUS=
+and WATCHDOG=1 is seen with its time: the outage's STATUS= must name the fault, and the
+recovery time is from it to the first WATCHDOG=1 after it (frames presented again). Each must
+also log a line naming the fault, stay alive, keep status.json's frames advancing afterwards,
+and stop with exit 0 on SIGTERM. The preload cannot run under the sanitizers' runtimes
+(tests/integration/v4l2/CMakeLists.txt).
+SIGUSR1 is not sent: lumar does not handle it (its default action ends a process, as for any
+daemon that does not claim it).
 
   fault_campaign.py --lumar BINARY [--rounds N] [--limit S] [--keep DIR]
+                    [--camera | --camera-only] [--vcam LIBRARY]
 Exit status 0 when every assertion held."""
 import argparse
 import json
@@ -25,9 +36,11 @@ import os
 import random
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -269,12 +282,175 @@ class Campaign:
         self.table.append(("SIGTERM during a reload", "-", 0, "-", f"exit {rc} after {took:.2f} s"))
 
 
+CAMERA_SCENE = """[camera]
+source = "v4l2"
+device = "/dev/video-lumar-test"
+width = 640
+height = 480
+fps = 30
+timeout_ms = 2000
+
+[output]
+path = "out.png"
+status_path = "status/status.json"
+"""
+
+# (fault, the virtual camera's settings, what the log line and the outage's STATUS= name; None:
+# lumar rides it through without an outage, so only the log names it).
+CAMERA_FAULTS = [
+    ("camera unplugged and back", {"LUMAR_VCAM_FAULT_UNPLUG_AT": "45"}, "unplugged", "unplugged"),
+    # The camera's clock runs from STREAMON, and lumar's start (GL, detector) can take over
+    # 10 s on a loaded machine, by when an early stall would be over: frame 450 is 15 s in.
+    ("camera stalls 5 s", {"LUMAR_VCAM_FAULT_STALL_AT": "450", "LUMAR_VCAM_FAULT_STALL_MS": "5000"},
+     "no frame for 2 s", "no frame for 2 s"),
+    ("1 % corrupt frames (MJPEG)", {"LUMAR_VCAM_FORMATS": "MJPG", "LUMAR_VCAM_FAULT_CORRUPT_EVERY": "100"},
+     "is corrupt", None),
+    ("short frames (YUYV, every 50th)", {"LUMAR_VCAM_FORMATS": "YUYV", "LUMAR_VCAM_FAULT_SHORT_EVERY": "50"},
+     "is corrupt", None),
+]
+
+
+class NotifySocket:
+    """A datagram socket standing in for systemd's: every message with its arrival time."""
+
+    def __init__(self, path):
+        self.path = path
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self.sock.bind(path)
+        self.sock.settimeout(0.2)
+        self.messages = []  # (monotonic time, text)
+        self.lock = threading.Lock()
+        self.running = True
+        self.thread = threading.Thread(target=self.listen, daemon=True)
+        self.thread.start()
+
+    def listen(self):
+        while self.running:
+            try:
+                data = self.sock.recv(4096)
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+            with self.lock:
+                for line in data.decode(errors="replace").splitlines():
+                    self.messages.append((time.monotonic(), line))
+
+    def snapshot(self):
+        with self.lock:
+            return list(self.messages)
+
+    def close(self):
+        self.running = False
+        self.thread.join()
+        self.sock.close()
+        os.unlink(self.path)
+
+
+def camera_fault(name, env_fault, logged, outage, lumar, vcam, work, limit, table, failures):
+    """One `lumar run` against the virtual camera with one fault; rows into table."""
+    print(f"{name} ...", flush=True)
+    run = os.path.join(work, "camera-" + str(len(table)))
+    os.makedirs(os.path.join(run, "status"))
+    with open(os.path.join(run, "scene.toml"), "w") as f:
+        f.write(CAMERA_SCENE)
+    notify = NotifySocket(os.path.join(run, "notify.sock"))
+    env = dict(os.environ, LD_PRELOAD=vcam, LUMAR_VCAM_DEVICE="/dev/video-lumar-test",
+               NOTIFY_SOCKET=notify.path, WATCHDOG_USEC="200000")
+    env.pop("WATCHDOG_PID", None)
+    env.update(env_fault)
+    log_path = os.path.join(run, "lumar.log")
+    status_path = os.path.join(run, "status", "status.json")
+    log_file = open(log_path, "w")
+    proc = subprocess.Popen([lumar, "run", "--config", "scene.toml"], stdout=log_file, stderr=subprocess.STDOUT,
+                            cwd=run, env=env)
+
+    def log():
+        with open(log_path, errors="replace") as f:
+            return f.read()
+
+    def frames():
+        try:
+            with open(status_path) as f:
+                return json.load(f)["frames"]
+        except (OSError, ValueError, KeyError):
+            return 0
+
+    def wait(condition, seconds):
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline and proc.poll() is None:
+            if condition():
+                return True
+            time.sleep(0.05)
+        return False
+
+    ok = True
+
+    def check(good, what):
+        nonlocal ok
+        if not good:
+            failures.append(f"{name}: {what}")
+            print(f"  FAIL: {name}: {what}", flush=True)
+            ok = False
+        return good
+
+    started = time.monotonic()
+    check(wait(lambda: frames() >= 3, limit), "no frames at start")
+    check(wait(lambda: logged in log(), limit), f"no log line names '{logged}'")
+    lines = [line for line in log().splitlines() if logged in line]
+    # An outage: the STATUS= naming it, then frames again (the first WATCHDOG=1 after it).
+    said = recovery = None
+    if outage is not None:
+        def recovered():
+            messages = notify.snapshot()
+            down = next((t for t, m in messages if m.startswith("STATUS=camera unavailable") and outage in m), None)
+            up = next((t for t, m in messages if down is not None and t > down and m == "WATCHDOG=1"), None)
+            return (down, up) if up is not None else None
+
+        check(wait(lambda: recovered() is not None, limit), f"no STATUS= naming '{outage}' followed by frames")
+        times = recovered()
+        if times:
+            said = True
+            recovery = times[1] - times[0]
+    check(proc.poll() is None, "lumar died")
+    before = frames()
+    check(wait(lambda: frames() > before, limit), "frames do not advance after the fault")
+    proc.send_signal(signal.SIGTERM)
+    try:
+        rc = proc.wait(timeout=limit)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        rc = None
+    log_file.close()
+    notify.close()
+    check(rc == 0, f"exit {rc} on SIGTERM")
+    if not ok:
+        print("  log ends:\n    " + "\n    ".join(log().splitlines()[-6:]), flush=True)
+    first = lines[0].strip() if lines else "-"
+    table.append((name, f"'{logged}': {first[:90]}", len(lines), "STATUS= yes" if said else "-",
+                  f"{recovery:.2f}" if recovery is not None else ("rides through" if ok else "none"),
+                  f"{time.monotonic() - started:.0f} s"))
+
+
+def camera_campaign(lumar, vcam, work, limit):
+    """Runs CAMERA_FAULTS; returns (table rows, failures)."""
+    if not os.path.exists(vcam):
+        return [], [f"no virtual camera at {vcam} (build the lumar_vcam target, or --vcam)"]
+    table, failures = [], []
+    for name, env_fault, logged, outage in CAMERA_FAULTS:
+        camera_fault(name, env_fault, logged, outage, lumar, vcam, work, limit, table, failures)
+    return table, failures
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--lumar", default=os.path.join(ROOT, "build", "lumar"))
     parser.add_argument("--rounds", type=int, default=1, help="repeat the fault sequence (the long campaign)")
     parser.add_argument("--limit", type=float, default=30.0, help="seconds a reaction or recovery may take")
     parser.add_argument("--keep", help="work in this folder and keep it")
+    parser.add_argument("--camera", action="store_true", help="also the camera faults (virtual V4L2 camera)")
+    parser.add_argument("--camera-only", action="store_true", help="only the camera faults")
+    parser.add_argument("--vcam", help="liblumar_vcam.so (default: beside --lumar, tests/vcam/)")
     args = parser.parse_args()
     work = args.keep or tempfile.mkdtemp(prefix="lumar-faults-")
     os.makedirs(os.path.join(work, "status"), exist_ok=True)
@@ -284,27 +460,42 @@ def main():
         f.write(CALIBRATION)
     with open(os.path.join(work, "scene.toml"), "w") as f:
         f.write(scene())
-    c = Campaign(os.path.abspath(args.lumar), work, args.limit)
+    lumar = os.path.abspath(args.lumar)
     started = time.monotonic()
-    c.start()
-    try:
-        c.run(args.rounds)
-        c.sigterm_during_reload()
-    except Died as e:
-        c.failures.append(str(e))
-        print(f"  FAIL: {e}", flush=True)
-    finally:
-        if c.alive():
-            c.proc.kill()
-    print(f"\n| fault | log names | lines | status.json names it | recovery (s) |")
-    print("|---|---|---|---|---|")
-    for row in c.table:
-        print("| " + " | ".join(str(x) for x in row) + " |")
-    print(f"\n{len(c.table)} faults in {time.monotonic() - started:.0f} s, {len(c.failures)} failed assertion(s); "
-          f"log {c.log_path}")
-    if not args.keep and not c.failures:
+    failures = []
+    if not args.camera_only:
+        c = Campaign(lumar, work, args.limit)
+        c.start()
+        try:
+            c.run(args.rounds)
+            c.sigterm_during_reload()
+        except Died as e:
+            c.failures.append(str(e))
+            print(f"  FAIL: {e}", flush=True)
+        finally:
+            if c.alive():
+                c.proc.kill()
+        print(f"\n| fault | log names | lines | status.json names it | recovery (s) |")
+        print("|---|---|---|---|---|")
+        for row in c.table:
+            print("| " + " | ".join(str(x) for x in row) + " |")
+        print(f"\n{len(c.table)} faults in {time.monotonic() - started:.0f} s, {len(c.failures)} failed assertion(s); "
+              f"log {c.log_path}")
+        failures += c.failures
+    if args.camera or args.camera_only:
+        camera_started = time.monotonic()
+        vcam = args.vcam or os.path.join(os.path.dirname(lumar), "tests", "vcam", "liblumar_vcam.so")
+        table, camera_failures = camera_campaign(lumar, os.path.abspath(vcam), work, args.limit)
+        print("\n| camera fault | log line | lines | outage named | recovery (s) | run |")
+        print("|---|---|---|---|---|---|")
+        for row in table:
+            print("| " + " | ".join(str(x) for x in row) + " |")
+        print(f"\n{len(table)} camera faults in {time.monotonic() - camera_started:.0f} s, "
+              f"{len(camera_failures)} failed assertion(s); logs under {work}")
+        failures += camera_failures
+    if not args.keep and not failures:
         shutil.rmtree(work, ignore_errors=True)
-    return 1 if c.failures else 0
+    return 1 if failures else 0
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one libFuzzer target (tests/fuzz) for SECONDS:
 #   scripts/fuzz.sh TARGET SECONDS [libFuzzer options...]
-# TARGET: config board_profile material_sidecar gltf hdr calibration y4m mjpeg v4l2_frame
+# TARGET: config board_profile material_sidecar gltf hdr calibration y4m mjpeg v4l2_frame v4l2_driver
 # fake_camera.
 # Builds build-fuzz/ (clang 14, -DLUMAR_FUZZ=ON: ASan, UBSan, coverage) on first use, seeds a
 # working corpus from tests/fuzz/seeds/TARGET.txt and tests/fuzz/regressions/TARGET/, and

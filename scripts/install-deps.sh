@@ -35,6 +35,7 @@ test_packages=(
   poppler-utils # pdftoppm: the markers test renders the PDF it prints
   xvfb xauth # the preview window tests run their own X server
   qemu-system-x86 busybox-static cpio # scripts/virtual-board.sh: the virtual board system test
+  python3-matplotlib # scripts/soak.sh: the soak's PNG plot (without it, an SVG)
 )
 packages=("${build_packages[@]}")
 [ "${1:-}" = "--build-only" ] || packages+=("${test_packages[@]}")

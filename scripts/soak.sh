@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Soak (issue 16): runs `lumar run` on the fake camera for MINUTES and samples, every INTERVAL
-# seconds, the process' resident memory, open file descriptors, threads, and the daemon's own
-# fps, frames and capture-to-present latency (status.json) into a CSV, then plots the curves
-# (scripts/soak_plot.py, an SVG: no plotting package needed) and prints whether RSS, fds or
-# threads grew after the warm-up (the first fifth of the run).
+# seconds, the process' resident memory, open file descriptors, threads, the GL objects alive
+# (textures, buffers, vertex arrays, framebuffers, renderbuffers, samplers, programs,
+# shaders: status.json's gl_objects, a census of the context, gl/gl_census.h) and the daemon's
+# own fps, frames and capture-to-present latency (status.json) into a CSV, then plots the
+# curves (scripts/soak_plot.py: a PNG with matplotlib, Debian's python3-matplotlib; an SVG
+# without) and prints whether RSS, fds, threads or GL objects grew after the warm-up (the
+# first fifth of the run).
 #   scripts/soak.sh MINUTES [--interval S] [--out DIR] [--config FILE] [--lumar BINARY]
 # Default scene: the fake camera at 320x240, 10 fps (cheap enough to run beside a build);
 # --config runs any scene instead (its [output] is replaced by a status file in DIR).
-# Exits 1 when lumar died, did not stop cleanly on SIGTERM, or fds/threads grew.
+# Exits 1 when lumar died, did not stop cleanly on SIGTERM, or fds/threads/GL objects grew.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [ $# -lt 1 ] || ! [[ $1 =~ ^[0-9]+([.][0-9]+)?$ ]]; then
@@ -42,7 +45,8 @@ else
 fi
 printf '[output]\npath = "%s/soak.png"\nstatus_path = "%s/status.json"\n' "$out" "$out" >>"$scene"
 csv=$out/soak.csv
-echo "t_s,rss_kb,fds,threads,fps,frames,latency_p50_ms,latency_p99_ms" >"$csv"
+gl_kinds="textures buffers vertex_arrays framebuffers renderbuffers samplers programs shaders"
+echo "t_s,rss_kb,fds,threads,fps,frames,latency_p50_ms,latency_p99_ms$(printf ',gl_%s' $gl_kinds)" >"$csv"
 
 "$lumar" run --config "$scene" >"$out/lumar.log" 2>&1 &
 pid=$!
@@ -70,7 +74,9 @@ while [ "$(date +%s)" -lt "$end" ]; do
   status=$out/status.json
   p50=$(sed -n 's/.*"p50":\([-0-9.]*\).*/\1/p' "$status" 2>/dev/null | head -1 || true)
   p99=$(sed -n 's/.*"p99":\([-0-9.]*\).*/\1/p' "$status" 2>/dev/null | head -1 || true)
-  echo "$t,$rss,$fds,$threads,$(field fps "$status"),$(field frames "$status"),$p50,$p99" >>"$csv"
+  gl=
+  for kind in $gl_kinds; do gl="$gl,$(field "$kind" "$status")"; done
+  echo "$t,$rss,$fds,$threads,$(field fps "$status"),$(field frames "$status"),$p50,$p99$gl" >>"$csv"
 done
 kill -TERM "$pid"
 rc=0
@@ -78,6 +84,17 @@ wait "$pid" || rc=$?
 trap - EXIT
 [ -z "$config" ] || rm -f "$scene"
 grep -q "stopped after" "$out/lumar.log" || rc=1
-python3 "$root/scripts/soak_plot.py" "$csv" "$out/soak.svg" || rc=1
-echo "soak.sh: lumar exited $rc; samples $csv, plot $out/soak.svg"
+# A PNG where some python3 has matplotlib (Debian's /usr/bin/python3 with python3-matplotlib),
+# else the standard library's SVG.
+plot=$out/soak.svg
+python=python3
+for candidate in python3 /usr/bin/python3; do
+  if "$candidate" -c 'import matplotlib' 2>/dev/null; then
+    python=$candidate
+    plot=$out/soak.png
+    break
+  fi
+done
+"$python" "$root/scripts/soak_plot.py" "$csv" "$plot" || rc=1
+echo "soak.sh: lumar exited $rc; samples $csv, plot $plot"
 [ "$rc" -eq 0 ]

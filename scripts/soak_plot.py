@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Plots scripts/soak.sh's CSV as one SVG (panels: RSS, fds, threads, fps, latency) with the
-standard library only, and prints the growth after the warm-up (the first fifth of the run):
-RSS as the median of the last fifth against the median of the second fifth, fds and threads
-as the largest count after the warm-up against the count at its end.
-Exit status 1 when fds or threads grew.   soak_plot.py SOAK.csv OUT.svg"""
+"""Plots scripts/soak.sh's CSV (panels: RSS, fds, threads, GL objects alive, fps, latency) as a
+PNG with matplotlib (OUT.png) or as an SVG with the standard library only (OUT.svg), and prints
+the growth after the warm-up (the first fifth of the run): RSS as the median of the last fifth
+against the median of the second fifth, fds, threads and each kind of GL object as the count
+at the end against the count at the end of the warm-up.
+Exit status 1 when fds, threads or GL objects grew.   soak_plot.py SOAK.csv OUT.png|OUT.svg"""
 import csv
 import statistics
 import sys
@@ -65,6 +66,35 @@ def growth(t, values):
     return statistics.median(second), statistics.median(last), max(v for _, v in pairs[fifth:]), pairs[fifth][1]
 
 
+GL_COLOURS = ["#c33", "#36c", "#393", "#963", "#639", "#c6c", "#099", "#666"]
+
+
+def gl_series(data):
+    """[(kind, values, colour)] for the gl_* columns that have samples."""
+    kinds = [name for name in data if name.startswith("gl_") and any(v is not None for v in data[name])]
+    return [(k[3:], data[k], GL_COLOURS[i % len(GL_COLOURS)]) for i, k in enumerate(kinds)]
+
+
+def write_png(path, t, panels):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 2.2 * len(panels)), sharex=True)
+    for ax, (title, series, unit) in zip(axes, panels):
+        for name, values, colour in series:
+            pts = [(ti, v) for ti, v in zip(t, values) if v is not None]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, label=name, linewidth=1.3)
+        ax.set_title(title, fontsize=10, loc="left")
+        ax.set_ylabel(unit, fontsize=9)
+        ax.grid(alpha=0.3)
+        if len(series) > 1:
+            ax.legend(fontsize=7, ncol=4, loc="upper right")
+    axes[-1].set_xlabel("seconds")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__, file=sys.stderr)
@@ -80,23 +110,27 @@ def main():
         ("resident memory", [("RSS", rss_mb, "#c33")], "MB"),
         ("open file descriptors", [("fds", data["fds"], "#36c")], "count"),
         ("threads", [("threads", data["threads"], "#393")], "count"),
+        ("GL objects alive (status.json gl_objects)", gl_series(data), "count"),
         ("frame rate (status.json)", [("fps", data["fps"], "#963")], "fps"),
         ("capture-to-present latency", [("p50", data["latency_p50_ms"], "#639"),
                                         ("p99", data["latency_p99_ms"], "#c6c")], "ms"),
     ]
-    body = [panel(0, i * h, w, h, title, t, series, unit) for i, (title, series, unit) in enumerate(panels)]
-    with open(sys.argv[2], "w") as f:
-        f.write(f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h * len(panels)}" '
-                f'font-family="sans-serif"><rect width="100%" height="100%" fill="white"/>\n')
-        f.write("\n".join(body))
-        f.write("\n</svg>\n")
+    if sys.argv[2].endswith(".png"):
+        write_png(sys.argv[2], t, panels)
+    else:
+        body = [panel(0, i * h, w, h, title, t, series, unit) for i, (title, series, unit) in enumerate(panels)]
+        with open(sys.argv[2], "w") as f:
+            f.write(f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h * len(panels)}" '
+                    f'font-family="sans-serif"><rect width="100%" height="100%" fill="white"/>\n')
+            f.write("\n".join(body))
+            f.write("\n</svg>\n")
 
     grew = False
     rss = growth(t, rss_mb)
     if rss:
         print(f"RSS after warm-up: median {rss[0]:.1f} MB (2nd fifth) -> {rss[1]:.1f} MB (last fifth), "
               f"{rss[1] - rss[0]:+.1f} MB")
-    for name in ("fds", "threads"):
+    for name in ["fds", "threads"] + [k for k in data if k.startswith("gl_")]:
         g = growth(t, data[name])
         if g:
             print(f"{name}: {g[3]:.0f} at the end of the warm-up, at most {g[2]:.0f} after, {g[1]:.0f} at the end")

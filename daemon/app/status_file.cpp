@@ -29,7 +29,13 @@ std::string statusJson(const RunStatus& s)
         {"markers_visible", s.markersVisible},
         {"camera", s.camera},
         {"config", s.config}};
-    return jsonLine(status) + "\n";
+    if (s.glObjects.empty())
+        return jsonLine(status) + "\n";
+    Json withGl = status;
+    Json& counts = withGl["gl_objects"] = Json::object();
+    for (const auto& [kind, alive] : s.glObjects)
+        counts[kind] = alive;
+    return jsonLine(withGl) + "\n";
 }
 
 void StatusFile::write(const RunStatus& status) const

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lumar {
@@ -28,6 +29,9 @@ struct RunStatus {
     std::optional<double> latencyP99Ms;
     // Camera frames dropped for a newer one (capture/prefetching_source.h) since start-up.
     uint64_t framesDropped = 0;
+    // Live GL objects per kind (gles_renderer/gl/gl_census.h), for the soak's leak check; left out
+    // of the file while empty.
+    std::vector<std::pair<std::string, int64_t>> glObjects;
 };
 
 std::string statusJson(const RunStatus& status);

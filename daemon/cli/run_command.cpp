@@ -18,6 +18,7 @@
 #include "config_watcher.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "gles_renderer/gl/gl_census.h"
 #include "kms_sink.h"
 #include "latency_window.h"
 #include "output/frame_writer.h"
@@ -360,6 +361,7 @@ int runCommand(const RunCommandOptions& options)
             status.latencyP50Ms = latency.percentile(0.5);
             status.latencyP99Ms = latency.percentile(0.99);
             status.framesDropped = scene->pipeline->framesDropped();
+            status.glObjects = glObjectCensus();
             status.markersVisible.clear();
             for (const TagDetection& d : report.detections)
                 status.markersVisible.push_back(d.id);

@@ -89,6 +89,9 @@ Settings settingsFromEnvironment()
     readInteger("LUMAR_VCAM_FAULT_DROP_EVERY", settings.dropEvery);
     readInteger("LUMAR_VCAM_FAULT_SHORT_EVERY", settings.shortEvery);
     readInteger("LUMAR_VCAM_FAULT_CORRUPT_EVERY", settings.corruptEvery);
+    if (const char* paced = std::getenv("LUMAR_VCAM_PACED"); paced != nullptr) {
+        settings.paced = std::string_view(paced) == "1";
+    }
     readInteger("LUMAR_VCAM_JPEG_QUALITY", settings.jpegQuality);
     settings.jpegQuality = std::clamp<int64_t>(settings.jpegQuality, 1, 100);
     readInteger("LUMAR_VCAM_SOURCE_CHANGE_AT", settings.sourceChangeAt);

@@ -34,6 +34,13 @@ struct Settings {
     int64_t dropEvery = 0; // 0: off
     int64_t shortEvery = 0;
     int64_t corruptEvery = 0;
+    // LUMAR_VCAM_PACED=1: the device keeps pace with its reader instead of the wall clock:
+    // a frame falls due no sooner than its time, than one period after the frame before it,
+    // and than the reader has taken that frame and queued a buffer for it; its sequence
+    // number and timestamp stay those of the nominal timeline. The V4L2 source's tests use
+    // it: on a loaded machine a reader descheduled for longer than the buffers last would
+    // otherwise see drops, bursts of stale frames and early faults that no test injected.
+    bool paced = false;
     int64_t jpegQuality = 95;
     int64_t sourceChangeAt = -1;
     uint32_t sourceChangeWidth = 1280;

@@ -150,7 +150,7 @@ int64_t VirtualDevice::nextFrameDueNs() const
     if (!streaming_ || unplugged_ || sourceChanged_) {
         return std::numeric_limits<int64_t>::max();
     }
-    return frameDueNs(frameIndex_);
+    return settings_.paced ? pacedDueNs() : frameDueNs(frameIndex_);
 }
 
 void VirtualDevice::fillBuffer(Buffer& buffer, int64_t index)
@@ -178,9 +178,18 @@ void VirtualDevice::fillBuffer(Buffer& buffer, int64_t index)
     buffer.bytesUsed = shortened ? format_.sizeimage / 2 : format_.sizeimage;
 }
 
+int64_t VirtualDevice::pacedDueNs() const
+{
+    if (!done_.empty() || queued_.empty()) {
+        return std::numeric_limits<int64_t>::max();
+    }
+    return std::max(frameDueNs(frameIndex_), pacedNotBeforeNs_);
+}
+
 void VirtualDevice::advance(int64_t nowNs)
 {
-    while (streaming_ && !unplugged_ && !sourceChanged_ && frameDueNs(frameIndex_) <= nowNs) {
+    while (streaming_ && !unplugged_ && !sourceChanged_ &&
+           (settings_.paced ? pacedDueNs() : frameDueNs(frameIndex_)) <= nowNs) {
         const int64_t index = frameIndex_;
         if (settings_.unplugAt >= 0 && index >= settings_.unplugAt) {
             unplugged_ = true;
@@ -207,9 +216,9 @@ void VirtualDevice::advance(int64_t nowNs)
             }
             return;
         }
+        const bool dropped = settings_.dropEvery > 0 && (index + 1) % settings_.dropEvery == 0;
         ++frameIndex_;
         ++framesProduced_;
-        const bool dropped = settings_.dropEvery > 0 && (index + 1) % settings_.dropEvery == 0;
         if (dropped || queued_.empty()) {
             continue; // the sequence number is spent, no buffer filled
         }
@@ -221,6 +230,8 @@ void VirtualDevice::advance(int64_t nowNs)
         buffer.sequence = uint32_t(index);
         buffer.timestampNs = frameDueNs(index);
         done_.push_back(bufferIndex);
+        const int64_t periodNs = int64_t(timePerFrame_.numerator) * 1'000'000'000 / int64_t(timePerFrame_.denominator);
+        pacedNotBeforeNs_ = nowNs + periodNs;
     }
 }
 
@@ -803,6 +814,7 @@ int VirtualDevice::ioctl(int handle, unsigned long request, void* arg, int64_t n
             streaming_ = true;
             sourceChanged_ = false;
             streamStartNs_ = nowNs;
+            pacedNotBeforeNs_ = 0;
             frameIndex_ = 0;
         }
         return 0;

@@ -78,6 +78,9 @@ private:
     [[nodiscard]] bool supportedFormat(uint32_t pixelFormat) const;
     [[nodiscard]] bool supportedSize(uint32_t width, uint32_t height) const;
     [[nodiscard]] int64_t frameDueNs(int64_t frameIndex) const;
+    // LUMAR_VCAM_PACED=1: when the next frame may come (INT64_MAX while the reader holds a
+    // frame not taken yet or no buffer is queued).
+    [[nodiscard]] int64_t pacedDueNs() const;
     void setFormat(v4l2_pix_format& format) const;
     void describeBuffer(uint32_t index, v4l2_buffer& out) const;
     int requestBuffers(int handle, v4l2_requestbuffers& request);
@@ -122,8 +125,9 @@ private:
     bool unplugged_ = false;
     bool sourceChanged_ = false; // the input changed size: no frames until the next STREAMON
     int64_t streamStartNs_ = 0;
-    int64_t frameIndex_ = 0;     // the next frame to fall due; equals its V4L2 sequence number
-    int64_t framesProduced_ = 0; // over the device's life, for the source-change fault
+    int64_t pacedNotBeforeNs_ = 0; // LUMAR_VCAM_PACED: one period after the last frame
+    int64_t frameIndex_ = 0;       // the next frame to fall due; equals its V4L2 sequence number
+    int64_t framesProduced_ = 0;   // over the device's life, for the source-change fault
     ControlSet controls_;
     MjpegFrames mjpeg_;
     std::map<int, Handle> handles_;

@@ -7,6 +7,7 @@
 // nothing can import one as a YCbCr frame.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include "capture/libcamera/dmabuf_mapping.h"
@@ -28,9 +29,16 @@ public:
 
     [[nodiscard]] const DmabufMapping& mapping() const { return mapping_; }
 
+    // Lending, as V4l2Buffer's (capture/v4l2/v4l2_buffer.h): the frames' handle calls
+    // giveBack() when its last copy ends; returned() is the acquire side ThreadSanitizer checks.
+    void lend() { returned_.store(false, std::memory_order_relaxed); }
+    void giveBack() const { returned_.store(true, std::memory_order_release); }
+    [[nodiscard]] bool returned() const { return returned_.load(std::memory_order_acquire); }
+
 private:
     DmabufMapping mapping_;
     std::vector<UniqueFd> dmabufs_; // one per distinct dmabuf of the buffer
+    mutable std::atomic<bool> returned_{false};
 };
 
 } // namespace lumar

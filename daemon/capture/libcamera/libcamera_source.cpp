@@ -318,10 +318,8 @@ void LibcameraSource::returnLentBuffers()
 {
     for (size_t i = 0; i < lent_.size();) {
         const std::shared_ptr<LibcameraBuffer>& buffer = *lent_[i].buffer;
-        // Only this source hands the buffer out, so a count of 1 cannot rise again; the fence
-        // orders the frames' last reads before the camera may write the buffer again.
-        if (buffer.use_count() == 1) {
-            std::atomic_thread_fence(std::memory_order_acquire);
+        // The frames' handle has ended (acquire: their last reads happened before).
+        if (buffer->returned()) {
             requeue(lent_[i].request);
             lent_[i] = lent_.back();
             lent_.pop_back();
@@ -351,7 +349,11 @@ void LibcameraSource::lendBuffer(const std::shared_ptr<LibcameraBuffer>& buffer,
     raw.plane1.clear();
     raw.stride0 = layout.stride;
     raw.stride1 = nv12 ? layout.stride : 0; // libcamera's NV12 chroma rows are as long as the luma rows
-    raw.buffer = buffer;
+    // The frames' own handle (as V4l2Source::lendBuffer's): the end of its last copy gives the
+    // buffer back, and it keeps the buffer's mapping alive for a frame that outlives us.
+    buffer->lend();
+    raw.buffer =
+        std::shared_ptr<const CameraBuffer>(buffer.get(), [buffer](const CameraBuffer*) { buffer->giveBack(); });
     converter_.convertLuma(buffer->planes()[0].data, layout.stride, nv12 ? 1 : 2, layout.width, layout.height,
                            frame.luma);
 }

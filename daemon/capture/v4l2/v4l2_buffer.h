@@ -3,6 +3,7 @@
 // NV12 or YUYV planes in both. Made once per buffer when the stream starts.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -23,9 +24,20 @@ public:
     [[nodiscard]] const uint8_t* data() const { return mapping_.data(); }
     [[nodiscard]] size_t size() const { return mapping_.size(); }
 
+    // Lending (V4l2Source::lendBuffer): the frames' handle on the buffer calls giveBack() when
+    // its last copy ends, and the source queues the buffer again once returned() says so. A
+    // release/acquire pair on the buffer's own flag: the frames' last reads happen before the
+    // driver may write the buffer again, in a way ThreadSanitizer can check (the former
+    // use_count() test with an acquire fence was correct C++, but TSan cannot model fences
+    // and GCC refuses to build one with -fsanitize=thread).
+    void lend() { returned_.store(false, std::memory_order_relaxed); }
+    void giveBack() const { returned_.store(true, std::memory_order_release); }
+    [[nodiscard]] bool returned() const { return returned_.load(std::memory_order_acquire); }
+
 private:
     MappedRegion mapping_;
     UniqueFd dmabuf_;
+    mutable std::atomic<bool> returned_{false};
 };
 
 // The DRM fourcc of a V4L2 pixel format the renderer can import (DRM_FORMAT_NV12,

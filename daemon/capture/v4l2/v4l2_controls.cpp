@@ -29,6 +29,12 @@ std::optional<v4l2_queryctrl> describe(const std::string& device, int fd, const 
         LUMAR_LOG(Capture, Warn) << device << ": the camera has no control for " << request.name << "; not set";
         return std::nullopt;
     }
+    if (query.minimum > query.maximum) {
+        // Nothing to clamp into (and std::clamp requires min <= max): a broken description.
+        LUMAR_LOG(Capture, Warn) << device << ": the camera describes " << request.name << " with minimum "
+                                 << query.minimum << " above maximum " << query.maximum << "; not set";
+        return std::nullopt;
+    }
     if (query.flags & V4L2_CTRL_FLAG_READ_ONLY) {
         LUMAR_LOG(Capture, Warn) << device << ": " << request.name << " is read-only on this camera; not set";
         return std::nullopt;

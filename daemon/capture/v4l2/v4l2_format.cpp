@@ -46,14 +46,16 @@ uint32_t choosePixelFormat(const std::vector<uint32_t>& deviceFormats, uint32_t 
 
 FrameSize chooseFrameSize(const std::vector<FrameSize>& sizes, FrameSize requested)
 {
-    const auto area = [](FrameSize s) { return int64_t(s.width) * int64_t(s.height); };
+    // Unsigned: a driver's 0xffffffff x 0xffffffff overflowed int64_t (fuzz_v4l2_driver).
+    const auto area = [](FrameSize s) { return uint64_t(s.width) * uint64_t(s.height); };
+    const auto distance = [](uint64_t a, uint64_t b) { return a > b ? a - b : b - a; };
     FrameSize best = sizes.front();
     for (const FrameSize& s : sizes) {
         if (s.width == requested.width && s.height == requested.height) {
             return s;
         }
-        const int64_t difference = std::llabs(area(s) - area(requested));
-        const int64_t bestDifference = std::llabs(area(best) - area(requested));
+        const uint64_t difference = distance(area(s), area(requested));
+        const uint64_t bestDifference = distance(area(best), area(requested));
         if (difference < bestDifference || (difference == bestDifference && area(s) > area(best))) {
             best = s;
         }
@@ -94,6 +96,10 @@ std::vector<uint32_t> enumeratePixelFormats(const std::string& device, int fd)
         if (error != 0) {
             throwDeviceError(device, "VIDIOC_ENUM_FMT", error);
         }
+        if (formats.size() == kMaxV4l2Formats) {
+            throw RuntimeError(device + ": VIDIOC_ENUM_FMT lists more than " + std::to_string(kMaxV4l2Formats) +
+                               " formats; the driver is broken");
+        }
         formats.push_back(description.pixelformat);
     }
     return formats;
@@ -113,12 +119,21 @@ std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, ui
         if (error != 0) {
             throwDeviceError(device, "VIDIOC_ENUM_FRAMESIZES", error);
         }
+        if (sizes.size() == kMaxV4l2FrameSizes) {
+            throw RuntimeError(device + ": VIDIOC_ENUM_FRAMESIZES lists more than " +
+                               std::to_string(kMaxV4l2FrameSizes) + " sizes; the driver is broken");
+        }
         if (size.type == V4L2_FRMSIZE_TYPE_DISCRETE) {
             sizes.push_back({size.discrete.width, size.discrete.height});
             continue;
         }
         // Stepwise or continuous: the request clamped into the range, snapped to the step.
         const auto& range = size.stepwise;
+        if (range.min_width > range.max_width || range.min_height > range.max_height) {
+            // std::clamp below requires min <= max (the fuzz target's driver broke it).
+            throw RuntimeError(device + ": VIDIOC_ENUM_FRAMESIZES gives a size range whose minimum exceeds its "
+                                        "maximum; the driver is broken");
+        }
         const auto snap = [](uint32_t value, uint32_t low, uint32_t high, uint32_t step) {
             const uint32_t clamped = std::clamp(value, low, high);
             return step > 1 ? low + (clamped - low) / step * step : clamped;

@@ -2,6 +2,7 @@
 // frame sizes lumar asks for, and what colorimetry the accepted format carries.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -38,7 +39,14 @@ FrameSize chooseFrameSize(const std::vector<FrameSize>& sizes, FrameSize request
 // BT.709, the closest of the two matrices lumar converts.
 YCbCrColorimetry colorimetryOf(const v4l2_pix_format& format);
 
-// Enumerations through the device's ioctls; they throw RuntimeError on a device failure.
+// The most formats and frame sizes an enumeration takes from a driver: a UVC camera lists a
+// few formats and tens of sizes; a driver that never ends its list (found by the fuzz target
+// tests/fuzz/fuzz_v4l2_driver.cpp) would otherwise keep lumar enumerating forever.
+inline constexpr size_t kMaxV4l2Formats = 64;
+inline constexpr size_t kMaxV4l2FrameSizes = 256;
+
+// Enumerations through the device's ioctls; they throw RuntimeError on a device failure, on a
+// list longer than the limits above, and on a size range whose minimum exceeds its maximum.
 std::vector<uint32_t> enumeratePixelFormats(const std::string& device, int fd);
 std::vector<FrameSize> enumerateFrameSizes(const std::string& device, int fd, uint32_t pixelFormat,
                                            FrameSize requested);

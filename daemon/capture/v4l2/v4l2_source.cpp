@@ -356,10 +356,8 @@ void V4l2Source::countCorrupt(uint32_t sequence, const std::string& why)
 void V4l2Source::returnLentBuffers()
 {
     for (size_t i = 0; i < lent_.size();) {
-        // Only this source copies the pointers out, so a count of 1 cannot rise again; the
-        // fence orders the frames' last reads before the driver may write the buffer again.
-        if (buffers_[lent_[i]].use_count() == 1) {
-            std::atomic_thread_fence(std::memory_order_acquire);
+        // The frames' handle has ended (acquire: their last reads happened before).
+        if (buffers_[lent_[i]]->returned()) {
             queueBuffer(lent_[i]);
             lent_[i] = lent_.back();
             lent_.pop_back();
@@ -389,7 +387,11 @@ void V4l2Source::lendBuffer(uint32_t index, Frame& frame)
     raw.plane1.clear();
     raw.stride0 = bytesPerLine_;
     raw.stride1 = pixelFormat_ == V4L2_PIX_FMT_NV12 ? bytesPerLine_ : 0;
-    raw.buffer = buffers_[index];
+    // The frames' own handle, with its own count: the end of its last copy gives the buffer
+    // back. It holds the buffer, so the mapping outlives this source if a frame does.
+    const std::shared_ptr<V4l2Buffer>& owner = buffers_[index];
+    owner->lend();
+    raw.buffer = std::shared_ptr<const CameraBuffer>(owner.get(), [owner](const CameraBuffer*) { owner->giveBack(); });
     lent_.push_back(index);
     converter_.convertLuma(buffers_[index]->data(), bytesPerLine_, pixelFormat_ == V4L2_PIX_FMT_NV12 ? 1 : 2, width_,
                            height_, frame.luma);

@@ -57,6 +57,17 @@ TEST(StatusFile, LatencyPercentilesOnceKnown)
     EXPECT_NEAR(j["latency_ms"]["p99"].get<double>(), 58.0, 1e-12);
 }
 
+// The soak's leak check (scripts/soak.sh): GL objects alive per kind, absent until given.
+TEST(StatusFile, GlObjectCountsOnceGiven)
+{
+    RunStatus s = aStatus();
+    EXPECT_FALSE(nlohmann::json::parse(statusJson(s)).contains("gl_objects"));
+    s.glObjects = {{"textures", 31}, {"programs", 12}};
+    const auto j = nlohmann::json::parse(statusJson(s));
+    EXPECT_EQ(j["gl_objects"], nlohmann::json({{"textures", 31}, {"programs", 12}}));
+    EXPECT_EQ(j["config"], "ok");
+}
+
 TEST(StatusFile, ReasonsWithQuotesControlsAndInvalidUtf8AreValidJson)
 {
     RunStatus s = aStatus();
