@@ -40,10 +40,12 @@ FrameSize chooseFrameSize(const std::vector<FrameSize>& sizes, FrameSize request
 YCbCrColorimetry colorimetryOf(const v4l2_pix_format& format);
 
 // The most formats and frame sizes an enumeration takes from a driver: a UVC camera lists a
-// few formats and tens of sizes; a driver that never ends its list (found by the fuzz target
-// tests/fuzz/fuzz_v4l2_driver.cpp) would otherwise keep lumar enumerating forever.
-inline constexpr size_t kMaxV4l2Formats = 64;
-inline constexpr size_t kMaxV4l2FrameSizes = 256;
+// few formats and tens of sizes, the kernel's vivid over 64 formats (the virtual board's
+// camera: a limit of 64 refused it); a driver that never ends its list (found by the fuzz
+// target tests/fuzz/fuzz_v4l2_driver.cpp) would otherwise keep lumar enumerating forever.
+// Far above any real list, far below what a fuzzed or broken driver costs to walk.
+inline constexpr size_t kMaxV4l2Formats = 1024;
+inline constexpr size_t kMaxV4l2FrameSizes = 4096;
 
 // Enumerations through the device's ioctls; they throw RuntimeError on a device failure, on a
 // list longer than the limits above, and on a size range whose minimum exceeds its maximum.
