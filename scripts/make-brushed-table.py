@@ -9,10 +9,11 @@ preset. Standard library only; deterministic output.
 
 usage: scripts/make-brushed-table.py [OUT.glb]
 """
-import json
 import math
 import struct
 import sys
+
+from glb_writer import GlbBuffer, pack_glb
 
 # +Y up, metres.
 TOP_RADIUS = 0.5
@@ -90,20 +91,13 @@ def build():
 
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "daemon/assets/models/lumar_brushed_table.glb"
-    binary = bytearray()
-    buffer_views, accessors, primitives, materials = [], [], [], []
-
-    def add_view(data, target):
-        while len(binary) % 4:
-            binary.append(0)
-        buffer_views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data), "target": target})
-        binary.extend(data)
-        return len(buffer_views) - 1
+    buffer = GlbBuffer()
+    accessors, primitives, materials = [], [], []
 
     def add_accessor(values, kind, component, target):
         flat = [x for v in values for x in (v if isinstance(v, tuple) else (v,))]
         fmt = "<%d%s" % (len(flat), "f" if component == 5126 else "I")
-        accessor = {"bufferView": add_view(struct.pack(fmt, *flat), target), "componentType": component,
+        accessor = {"bufferView": buffer.add_view(struct.pack(fmt, *flat), target), "componentType": component,
                     "count": len(values), "type": kind}
         if kind == "VEC3" and component == 5126 and values is not None:
             accessor["min"] = [min(v[k] for v in values) for k in range(3)]
@@ -120,20 +114,14 @@ def main():
                            "indices": indices, "material": index})
         materials.append({"name": name, "pbrMetallicRoughness": {"baseColorFactor": [0.86, 0.86, 0.87, 1.0],
                                                                   "metallicFactor": 1.0, "roughnessFactor": 0.35}})
-    while len(binary) % 4:
-        binary.append(0)
     document = {
         "asset": {"version": "2.0", "generator": "lumar scripts/make-brushed-table.py",
                   "copyright": "lumar project; generated, no third-party content"},
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "table", "mesh": 0}],
         "meshes": [{"name": "table", "primitives": primitives}], "materials": materials,
-        "accessors": accessors, "bufferViews": buffer_views, "buffers": [{"byteLength": len(binary)}],
+        "accessors": accessors, "bufferViews": buffer.views, "buffers": [{"byteLength": buffer.pad()}],
     }
-    text = json.dumps(document, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 4)
-    glb = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(binary))
-    glb += struct.pack("<II", len(text), 0x4E4F534A) + text
-    glb += struct.pack("<II", len(binary), 0x004E4942) + bytes(binary)
+    glb = pack_glb(document, buffer)
     with open(out, "wb") as f:
         f.write(glb)
     print("%s: %d triangles" % (out, sum(len(m.indices) for _, m in build()) // 3))

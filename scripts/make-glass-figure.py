@@ -9,12 +9,12 @@ hammered dimples. Glass is glTF's own: KHR_materials_transmission (1), KHR_mater
 
 usage: scripts/make-glass-figure.py [OUT_DIR]
 """
-import json
 import math
 import os
 import struct
 import sys
-import zlib
+
+from glb_writer import GlbBuffer, pack_glb, png_rgb
 
 SEGMENTS, RINGS = 64, 32
 # Dimples of the hammered ball: around the sphere and from pole to pole, and how far the
@@ -45,12 +45,7 @@ def sphere():
 
 
 def png(width, height, pixel):
-    raw = b"".join(b"\x00" + b"".join(bytes(pixel(x, y)) for x in range(width)) for y in range(height))
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+    return png_rgb(width, height, (b"".join(bytes(pixel(x, y)) for x in range(width)) for y in range(height)))
 
 
 def hammered_normal_png(width=256, height=128):
@@ -67,18 +62,8 @@ def hammered_normal_png(width=256, height=128):
 
 def glb(normal_map):
     positions, normals, uvs, indices = sphere()
-    binary = bytearray()
-    views = []
-
-    def add_view(data, target=None):
-        while len(binary) % 4:
-            binary.append(0)
-        view = {"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)}
-        if target:
-            view["target"] = target
-        binary.extend(data)
-        views.append(view)
-        return len(views) - 1
+    buffer = GlbBuffer()
+    add_view = buffer.add_view
 
     count = len(positions)
     accessors = [
@@ -111,7 +96,7 @@ def glb(normal_map):
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "glass_ball", "mesh": 0}],
         "meshes": [{"name": "glass_ball", "primitives": [
             {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
-        "materials": [material], "accessors": accessors, "bufferViews": views,
+        "materials": [material], "accessors": accessors, "bufferViews": buffer.views,
     }
     if normal_map:
         image_view = add_view(hammered_normal_png())
@@ -119,14 +104,8 @@ def glb(normal_map):
         gltf["images"] = [{"name": "hammered", "mimeType": "image/png", "bufferView": image_view}]
         gltf["samplers"] = [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 33071}]
         gltf["textures"] = [{"sampler": 0, "source": 0}]
-    while len(binary) % 4:
-        binary.append(0)
-    gltf["buffers"] = [{"byteLength": len(binary)}]
-    text = json.dumps(gltf, separators=(",", ":")).encode()
-    text += b" " * ((4 - len(text) % 4) % 4)
-    out = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(binary))
-    return out + struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(binary), 0x004E4942) + \
-        bytes(binary)
+    gltf["buffers"] = [{"byteLength": buffer.pad()}]
+    return pack_glb(gltf, buffer)
 
 
 def main():

@@ -9,11 +9,11 @@ bumpers and emissive headlamps. Standard library only; deterministic output.
 
 usage: scripts/make-roadster.py [OUT.glb]
 """
-import json
 import math
 import struct
 import sys
-import zlib
+
+from glb_writer import GlbBuffer, pack_glb, png_rgb
 
 # The car faces +Z, +Y up, metres: 4.2 m long, 1.8 m wide.
 
@@ -121,19 +121,14 @@ def swirl_png(size):
     rows = []
     c = (size - 1) / 2.0
     for y in range(size):
-        row = bytearray([0])
+        row = bytearray()
         for x in range(size):
             angle = math.atan2(c - y, x - c) + math.pi / 2.0
             a = (angle % math.pi) / math.pi
             g = int(round(a * 255))
             row += bytes([g, g, g])
         rows.append(bytes(row))
-    raw = b"".join(rows)
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+    return png_rgb(size, size, rows)
 
 
 MATERIALS = [
@@ -178,18 +173,9 @@ def build():
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "daemon/assets/models/lumar_roadster.glb"
     parts = build()
-    binary = bytearray()
-    accessors, views, primitives, materials = [], [], [], []
-
-    def add_view(data, target=None):
-        while len(binary) % 4:
-            binary.append(0)
-        view = {"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)}
-        if target:
-            view["target"] = target
-        binary.extend(data)
-        views.append(view)
-        return len(views) - 1
+    buffer = GlbBuffer()
+    add_view = buffer.add_view
+    accessors, primitives, materials = [], [], []
 
     triangles = 0
     for index, (name, lafortune, base, metallic, roughness, emissive) in enumerate(MATERIALS):
@@ -227,8 +213,7 @@ def main():
         materials.append(material)
 
     image_view = add_view(swirl_png(128))
-    while len(binary) % 4:
-        binary.append(0)
+    byte_length = buffer.pad()
     gltf = {
         "asset": {"version": "2.0", "generator": "lumar scripts/make-roadster.py",
                   "copyright": "lumar project; generated, no third-party content"},
@@ -236,16 +221,13 @@ def main():
                            "KHR_materials_ior"],
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"name": "roadster", "mesh": 0}],
         "meshes": [{"name": "roadster", "primitives": primitives}],
-        "materials": materials, "accessors": accessors, "bufferViews": views,
-        "buffers": [{"byteLength": len(binary)}],
+        "materials": materials, "accessors": accessors, "bufferViews": buffer.views,
+        "buffers": [{"byteLength": byte_length}],
         "images": [{"name": "swirl", "mimeType": "image/png", "bufferView": image_view}],
         "samplers": [{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}],
         "textures": [{"sampler": 0, "source": 0}],
     }
-    text = json.dumps(gltf, separators=(",", ":")).encode()
-    text += b" " * ((4 - len(text) % 4) % 4)
-    glb = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(binary))
-    glb += struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(binary), 0x004E4942) + bytes(binary)
+    glb = pack_glb(gltf, buffer)
     with open(out, "wb") as f:
         f.write(glb)
     print(f"{out}: {triangles} triangles, {len(MATERIALS)} materials, {len(glb)} bytes")

@@ -40,11 +40,7 @@ GltfModel leaf(const std::array<glm::vec3, 4>& corners, GltfAlphaMode mode, cons
 // elevation along +x, the leaf level 0.3 m above a ground phantom.
 glm::dmat4 cameraFromWorld()
 {
-    glm::dmat4 m(1.0);
-    m[1][1] = -1.0;
-    m[2][2] = -1.0;
-    m[3] = glm::dvec4(0.0, 0.0, 1.0, 1.0);
-    return m;
+    return test::cameraLookingDownFromOneMetre();
 }
 
 glm::dvec2 pixelOf(const glm::dvec3& p)

@@ -120,6 +120,17 @@ inline glm::dmat4 translation(double x, double y, double z)
 
 // Published formulas, written out here independently of the shaders.
 
+// A camera 1 m above the world's origin looking straight down (world z up, as a marker
+// frame): image x along world x, image y along world -y.
+inline glm::dmat4 cameraLookingDownFromOneMetre()
+{
+    glm::dmat4 m(1.0);
+    m[1][1] = -1.0;
+    m[2][2] = -1.0;
+    m[3] = glm::dvec4(0.0, 0.0, 1.0, 1.0);
+    return m;
+}
+
 // The renderer's camera response (shaders_es/camera_response.glsl, DESIGN.md §6.5): linear up
 // to the knee, then an exponential shoulder that meets 1 smoothly.
 inline double cameraResponse(double x)

@@ -29,11 +29,7 @@ const CameraIntrinsics& intrinsics()
 // The camera 1 m above the origin looking down: image x along world x, image y along -y.
 glm::dmat4 cameraFromWorld()
 {
-    glm::dmat4 m(1.0);
-    m[1][1] = -1.0;
-    m[2][2] = -1.0;
-    m[3] = glm::dvec4(0.0, 0.0, 1.0, 1.0);
-    return m;
+    return test::cameraLookingDownFromOneMetre();
 }
 
 // World (z up, as a marker frame) to the environment frame (+Y up): (x, y, z) -> (x, z, -y).
