@@ -161,6 +161,10 @@ void ShadowPass::linkReceiverPrograms()
     // The normals feed nothing here: the linker may drop the uniform (-1: glUniform ignores it).
     receiverDepthNormalFromMeshLocation_ = glGetUniformLocation(receiverDepthProgram_.name(), "uNormalFromMesh");
     bindUniformBlock(receiverDepthProgram_, "Frame", kFrameBlockBinding);
+    receiverDistanceProgram_ = linkProgram(kPhantomReceiverDistanceProgram);
+    receiverDistanceCameraFromMeshLocation_ = uniformLocation(receiverDistanceProgram_, "uCameraFromMesh");
+    receiverDistanceNormalFromMeshLocation_ = glGetUniformLocation(receiverDistanceProgram_.name(), "uNormalFromMesh");
+    bindUniformBlock(receiverDistanceProgram_, "Frame", kFrameBlockBinding);
     receiverProgram_ = linkProgram(kPhantomReceiverProgram);
     cameraFromMeshLocation_ = uniformLocation(receiverProgram_, "uCameraFromMesh");
     normalFromMeshLocation_ = uniformLocation(receiverProgram_, "uNormalFromMesh");
@@ -179,7 +183,10 @@ void ShadowPass::linkApplyProgram()
     if (applyProgram_)
         return;
     applyProgram_ = linkProgram(kShadowApplyProgram);
-    applyRatioFromFragCoordLocation_ = uniformLocation(applyProgram_, "uRatioFromFragCoord");
+    applyCameraFromMeshLocation_ = uniformLocation(applyProgram_, "uCameraFromMesh");
+    applyNormalFromMeshLocation_ = glGetUniformLocation(applyProgram_.name(), "uNormalFromMesh");
+    applyTexelsPerPixelLocation_ = uniformLocation(applyProgram_, "uTexelsPerPixel");
+    bindUniformBlock(applyProgram_, "Frame", kFrameBlockBinding);
     glUseProgram(applyProgram_.name());
     glUniform1i(uniformLocation(applyProgram_, "uRatio"), GLint(kRatioUnit));
 }
@@ -198,7 +205,8 @@ void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
     buffer.frameHeight = frameHeight;
     buffer.scale = scale;
     const int width = frameWidth / scale, height = frameHeight / scale;
-    buffer.colour = makeRenderTexture(GL_R8, width, height, GL_LINEAR);
+    // r: the ratio; gb: the receiver's distance (receiver_distance.glsl), read texel by texel.
+    buffer.colour = makeRenderTexture(GL_RGBA8, width, height, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
     buffer.depth = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, buffer.depth.name());
@@ -523,17 +531,27 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     glActiveTexture(GL_TEXTURE0 + MeshPass::kShadowMapUnit);
     glBindTexture(GL_TEXTURE_2D, map_.name());
 
-    // receiverOnly: which items; culling: whether single-sided materials hide back faces;
-    // shaded: the darkening program (else the depth-only one).
-    const auto drawItems = [&](bool receiverOnly, bool culling, bool shaded) {
-        const GLint cameraFromMeshLocation = shaded ? cameraFromMeshLocation_ : receiverDepthCameraFromMeshLocation_;
-        const GLint normalFromMeshLocation = shaded ? normalFromMeshLocation_ : receiverDepthNormalFromMeshLocation_;
-        glUseProgram(shaded ? receiverProgram_.name() : receiverDepthProgram_.name());
+    // The programs that draw the receivers, all with phantom_receiver.vert.
+    struct ReceiverProgram {
+        const GlProgram* program;
+        GLint cameraFromMesh;
+        GLint normalFromMesh;
+        bool bindsDiffuseMaps;
+    };
+    const ReceiverProgram depthOnly{&receiverDepthProgram_, receiverDepthCameraFromMeshLocation_,
+                                    receiverDepthNormalFromMeshLocation_, false};
+    const ReceiverProgram distance{&receiverDistanceProgram_, receiverDistanceCameraFromMeshLocation_,
+                                   receiverDistanceNormalFromMeshLocation_, false};
+    const ReceiverProgram darkening{&receiverProgram_, cameraFromMeshLocation_, normalFromMeshLocation_, true};
+    const ReceiverProgram apply{&applyProgram_, applyCameraFromMeshLocation_, applyNormalFromMeshLocation_, false};
+    // receiverOnly: which items; culling: whether single-sided materials hide back faces.
+    const auto drawItems = [&](bool receiverOnly, bool culling, const ReceiverProgram& with) {
+        glUseProgram(with.program->name());
         for (size_t i = 0; i < items.size(); ++i) {
             const DrawItem& item = items[i];
             if (!item.phantom || item.receiverOnly != receiverOnly)
                 continue;
-            if (shaded) {
+            if (with.bindsDiffuseMaps) {
                 glActiveTexture(GL_TEXTURE0 + MeshPass::kDiffuseMapUnit);
                 glBindTexture(GL_TEXTURE_CUBE_MAP, maps[i]->diffuse.name());
             }
@@ -548,8 +566,8 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
                     glDisable(GL_CULL_FACE);
                 const glm::mat4 cameraFromMeshF(cameraFromMesh);
                 const glm::mat3 normalFromMesh(glm::transpose(glm::inverse(glm::dmat3(cameraFromMesh))));
-                glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
-                glUniformMatrix3fv(normalFromMeshLocation, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
+                glUniformMatrix4fv(with.cameraFromMesh, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));
+                glUniformMatrix3fv(with.normalFromMesh, 1, GL_FALSE, glm::value_ptr(normalFromMesh));
                 glBindVertexArray(primitive.vertexArray.name());
                 glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
             }
@@ -559,63 +577,84 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
-    // 1. The phantoms' depth in the frame: real surfaces hide the virtual objects drawn next.
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    drawItems(false, true, false);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-
     // 2. The darkening, into the ratio buffer: the phantoms' depth again at its resolution (a
     //    program with the same vertex shader, whose gl_Position is declared invariant: the
-    //    shading below meets exactly these depths), then the shading, only where something
-    //    can darken, once per rectangle of a disjoint cover of those places: elsewhere the
-    //    ratio is exactly 1. (A table phantom fills most of the frame, the shadows and contacts
-    //    a part of it.)
+    //    shading below meets exactly these depths), with every receiver's distance into the
+    //    green and blue channels (the receiver-only surfaces' where no phantom is in front),
+    //    then the shading into red, only where something can darken, once per rectangle of a
+    //    disjoint cover of those places: elsewhere the ratio is exactly 1. (A table phantom
+    //    fills most of the frame, the shadows and contacts a part of it.)
     glBindFramebuffer(GL_FRAMEBUFFER, ratio_.framebuffer.name());
     glViewport(0, 0, ratio_.frameWidth / ratio_.scale, ratio_.frameHeight / ratio_.scale);
     const GLfloat one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
     glClearBufferfv(GL_COLOR, 0, one);
     const GLfloat far = 1.0f;
     glClearBufferfv(GL_DEPTH, 0, &far);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    drawItems(false, true, false);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_FALSE);
+    drawItems(false, true, distance);
+    glDepthMask(GL_FALSE);
+    drawItems(true, false, distance);
+    glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
     const std::vector<PixelRect> rects = darkenedRects(frame, models, items); // in the buffer's texels
     if (!rects.empty()) {
         glEnable(GL_SCISSOR_TEST);
-        glDepthMask(GL_FALSE);
         glEnable(GL_BLEND);
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
         for (const PixelRect& rect : rects) {
             glScissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
             // The phantoms' darkening, once per texel: only the nearest surface passes GL_EQUAL.
             glDepthFunc(GL_EQUAL);
-            drawItems(false, true, true);
+            drawItems(false, true, darkening);
             // The receiver-only surfaces where no phantom is in front, seen from either side.
             glDepthFunc(GL_LESS);
-            drawItems(true, false, true);
+            drawItems(true, false, darkening);
         }
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_BLEND);
+        glDisable(GL_SCISSOR_TEST);
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 
-        // 3. The frame times the darkening, over the same rectangles.
-        glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
-        glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
+    // 3. In the frame: the phantoms' depth (real surfaces hide the virtual objects drawn
+    //    next), then the frame times the darkening. Both after the buffer's passes: one
+    //    framebuffer switch fewer, and on llvmpipe a depth meets GL_EQUAL only in the scene
+    //    (the run of draws into one framebuffer) that wrote it.
+    glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    drawItems(false, true, depthOnly);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (!rects.empty()) {
+        glDepthMask(GL_FALSE);
+        glEnable(GL_SCISSOR_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+        // The frame times the darkening, over the same rectangles, drawn over the receivers
+        //    at the frame's resolution (against the phantoms' depth of step 1) so that each
+        //    pixel upsamples the darkening from its own surface (shadow_apply.frag). (Where
+        //    two receiver-only surfaces overlap in the image, each applies the buffer's texel.)
         glUseProgram(applyProgram_.name());
-        glUniform2f(applyRatioFromFragCoordLocation_, 1.0f / float(ratio_.frameWidth),
-                    1.0f / float(ratio_.frameHeight));
+        glUniform1f(applyTexelsPerPixelLocation_, 1.0f / float(ratio_.scale));
         glActiveTexture(GL_TEXTURE0 + kRatioUnit);
         glBindTexture(GL_TEXTURE_2D, ratio_.colour.name());
         const int s = ratio_.scale;
         for (const PixelRect& rect : rects) {
             glScissor(viewport[0] + rect.x0 * s, viewport[1] + rect.y0 * s, (rect.x1 - rect.x0) * s,
                       (rect.y1 - rect.y0) * s);
-            drawFullscreenTriangle();
+            glDepthFunc(GL_EQUAL);
+            drawItems(false, true, apply);
+            glDepthFunc(GL_LESS);
+            drawItems(true, false, apply);
         }
+        glActiveTexture(GL_TEXTURE0 + kRatioUnit);
         glBindTexture(GL_TEXTURE_2D, 0);
         glDisable(GL_BLEND);
         glDisable(GL_SCISSOR_TEST);
-        glEnable(GL_DEPTH_TEST);
     }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_CULL_FACE);
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glDepthFunc(GL_LESS);

@@ -67,9 +67,11 @@ public:
     // (edges: a real box's outline against its shadow), quarter 0.4 %.
 
 private:
-    // The darkening, shaded at a fraction of the frame's resolution: an R8 texture (the
-    // ratio, encoded as phantom_receiver.frag writes it), cleared to 1, and a depth buffer
-    // for the phantoms at that resolution.
+    // The darkening, shaded at a fraction of the frame's resolution: an RGBA8 texture, red
+    // the ratio (encoded as phantom_receiver.frag writes it), green and blue the receiver's
+    // distance from the camera (receiver_distance.glsl, for shadow_apply.frag's depth-aware
+    // upsampling), cleared to 1 (no darkening, no receiver), and a depth buffer for the
+    // phantoms at that resolution.
     struct RatioBuffer {
         int frameWidth = 0, frameHeight = 0;
         int scale = 1; // frame pixels per texel along x and y
@@ -132,8 +134,13 @@ private:
     std::vector<glm::dmat4> reachBoxes_;
     GlBuffer frameUniforms_;
     RatioBuffer ratio_;
+    GlProgram receiverDistanceProgram_;
+    GLint receiverDistanceCameraFromMeshLocation_ = -1;
+    GLint receiverDistanceNormalFromMeshLocation_ = -1;
     GlProgram applyProgram_;
-    GLint applyRatioFromFragCoordLocation_ = -1;
+    GLint applyCameraFromMeshLocation_ = -1;
+    GLint applyNormalFromMeshLocation_ = -1;
+    GLint applyTexelsPerPixelLocation_ = -1;
 };
 
 } // namespace lumar

@@ -211,6 +211,55 @@ TEST(Shadows, EveryReceiverResolutionGivesTheSameShadow)
     EXPECT_LT(differing, 2 * kHeight) << "pixels outside the shadow darkened at half resolution";
 }
 
+// At a fraction of the frame's resolution the darkening is upsampled depth-aware: a real box
+// (a phantom, 0.1 m tall, its left edge at x = 0.021) stands on the ground phantom, and a
+// floating box's shadow on the ground runs up to the box's edge, while on the box's top (a
+// plane 0.1 m higher) the same shadow falls 4.7 cm short of it. At full, half and quarter
+// resolution (240 x 160: quarter stays quarter) the box's top beside the shadow stays the
+// camera image (+-1) and the ground in the shadow beside the box keeps the umbra's value: a
+// plain bilinear filter would carry the shadow a texel (4 pixels) onto the box and lighten
+// the ground's last texel. (The box's foot is kept off the texels' centres: where a texel's
+// centre lies on the line where two receivers meet, both meet its depth and both darken it.)
+TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
+{
+    constexpr int width = 240, height = 160;
+    constexpr double cx = 119.5, cy = 79.5;
+    const CameraIntrinsics k = test::makeIntrinsics(width, height, kFocal, kFocal, cx, cy);
+    const auto pixelAt = [&](const glm::dvec3& p) {
+        const glm::dvec3 c(cameraFromWorld() * glm::dvec4(p, 1.0));
+        return glm::dvec2(cx + kFocal * c.x / c.z, cy + kFocal * c.y / c.z);
+    };
+    const glm::dvec3 towardsLight = worldDirection(60.0, 180.0); // from -x: shadows fall towards +x
+    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    for (int scale : {1, 2, 4}) {
+        RenderOptions options = shadowsOn();
+        options.shadows.receiverScale = scale;
+        LUMAR_RENDERER_OR_SKIP(renderer, width, height, options);
+        prepare(renderer, 1.0f);
+        renderer.setLight(light(towardsLight, 2.0f));
+        const ModelId cube = renderer.addModel(makeCube());
+        // The caster spans x in [-0.27, -0.17], z in [0.25, 0.35]: its shadow covers x in
+        // [-0.126, 0.032] on the ground, [-0.184, -0.026] on the box's top.
+        const DrawItem items[] = {groundPhantom(cube),
+                                  {cube, placed({0.071, 0.0, 0.05}, {0.1, 0.2, 0.1}), -1, true},
+                                  {cube, placed({-0.22, 0.0, 0.3}, glm::dvec3(0.1)), -1}};
+        renderer.render(test::solidImage(width, height, kGrey, kGrey, kGrey), k, items);
+        Image8 out;
+        renderer.readback(out);
+        const int boxEdge = int(std::ceil(pixelAt({0.021, 0.0, 0.1}).x));     // the top's first column
+        const int groundEdge = int(std::floor(pixelAt({0.021, 0.0, 0.0}).x)); // the ground's last
+        ASSERT_LT(groundEdge, boxEdge);
+        const int rowLow = int(std::lround(pixelAt({0.0, 0.03, 0.0}).y));
+        const int rowHigh = int(std::lround(pixelAt({0.0, -0.03, 0.0}).y));
+        for (int y = rowLow; y <= rowHigh; ++y) {
+            for (int x = boxEdge; x < boxEdge + 10; ++x)
+                ASSERT_NEAR(out.at(x, y)[1], kGrey, 1) << "box top at " << x << "," << y << ", scale " << scale;
+            for (int x = groundEdge - 8; x <= groundEdge; ++x)
+                ASSERT_NEAR(out.at(x, y)[1], expected, 3.0) << "ground at " << x << "," << y << ", scale " << scale;
+        }
+    }
+}
+
 TEST(Shadows, TheShadowMovesWithTheLight)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
