@@ -105,6 +105,9 @@ uniform sampler2D uTransmission;      // linear r: x the transmission factor
 #ifndef WRITES_RADIANCE // a cube face of an environment map, not the frame
 #define WRITES_RADIANCE (frameParams.y > 0.5)
 #endif
+#ifndef GLOSS_FLOOR // the least glossiness of the lobe (mesh_features.h glossFeatures)
+#define GLOSS_FLOOR 0.0
+#endif
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -160,8 +163,16 @@ vec3 environmentRadiance(vec3 d, float s)
     vec4 w = vec4(blend.x < 0.5 ? 1.0 - blend.y : 0.0,
                   blend.x < 0.5 ? blend.y : (blend.x < 1.5 ? 1.0 - blend.y : 0.0),
                   blend.x < 0.5 ? 0.0 : (blend.x < 1.5 ? blend.y : 1.0 - blend.y), blend.x < 1.5 ? 0.0 : blend.y);
-    return w.x * mapRadiance(uDiffuseMap, d) + w.y * mapRadiance(uGlossy1Map, d) +
-           w.z * mapRadiance(uGlossy2Map, d) + w.w * mapRadiance(uMirrorMap, d);
+    // The maps below the material's least glossiness weigh 0: left out (in the same order
+    // of additions, so the sum is the same).
+    vec3 sum = vec3(0.0);
+    if (GLOSS_FLOOR < 0.25)
+        sum += w.x * mapRadiance(uDiffuseMap, d);
+    if (GLOSS_FLOOR < 0.5)
+        sum += w.y * mapRadiance(uGlossy1Map, d);
+    if (GLOSS_FLOOR < 1.0)
+        sum += w.z * mapRadiance(uGlossy2Map, d);
+    return sum + w.w * mapRadiance(uMirrorMap, d);
 }
 
 // The uv texture slot `slot` reads: its uv set, transformed (identity without the extension).

@@ -1,5 +1,6 @@
 #include "gles_renderer/scene/mesh_features.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace lumar {
@@ -14,6 +15,33 @@ uint32_t viewFeatures(const FrameUniforms& frame)
     if (frame.frameParams.y > 0.5f)
         features |= mesh_feature::kWritesRadiance;
     return features;
+}
+
+uint32_t glossFeatures(const MaterialUniforms& material)
+{
+    double exponent = 1.0;
+    if (material.metallicRoughness.z > 0.5f) {
+        // Lafortune: n = max(factor x the lobe texture's alpha, 1); a texture may lower it.
+        if (material.textureFlags.z > 0.5f)
+            return 0;
+        exponent = std::max(double(material.lobeFactor.w), 1.0);
+    } else {
+        // Metallic-roughness as mesh.frag converts it: the texture's roughness only scales
+        // the factor down, which raises n.
+        const double roughness = std::clamp(double(material.metallicRoughness.y), 0.0, 1.0);
+        const double alpha = std::max(roughness * roughness, 1e-4);
+        exponent = std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 4096.0);
+    }
+    // s = log2(n) / 12 (lafortune.glsl): 1/4 at n = 8, 1/2 at 64, 1 at 4096. A margin of 1 %
+    // below 1/4 and 1/2 keeps a lookup whose weight the shader's float log2 might leave
+    // above zero; at 1 the glossy-2 weight is 1 - min(2 s - 1, 1), within 1e-6 of 0.
+    if (exponent >= 4096.0)
+        return mesh_feature::kGlossMirror;
+    if (exponent >= 64.0 * 1.01)
+        return mesh_feature::kGlossHalf;
+    if (exponent >= 8.0 * 1.01)
+        return mesh_feature::kGlossQuarter;
+    return 0;
 }
 
 std::string meshVariantDefines(uint32_t features)
@@ -41,6 +69,13 @@ std::string meshVariantDefines(uint32_t features)
                             : (features & mesh_feature::kAlphaMask) != 0 ? "1.0"
                                                                          : "0.0";
     defines += std::string("#define ALPHA_MODE ") + alphaMode + "\n";
+    // Without a floor mesh.frag's default (0: every map) holds.
+    const char* glossFloor = (features & mesh_feature::kGlossMirror) != 0    ? "1.0"
+                             : (features & mesh_feature::kGlossHalf) != 0    ? "0.5"
+                             : (features & mesh_feature::kGlossQuarter) != 0 ? "0.25"
+                                                                             : nullptr;
+    if (glossFloor != nullptr)
+        defines += std::string("#define GLOSS_FLOOR ") + glossFloor + "\n";
     return defines;
 }
 

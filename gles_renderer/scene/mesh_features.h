@@ -27,6 +27,11 @@ inline constexpr uint32_t kUnlit = 1U << 11;
 inline constexpr uint32_t kAlphaMask = 1U << 12;    // glTF alphaMode MASK
 inline constexpr uint32_t kAlphaBlend = 1U << 13;   // BLEND (neither: OPAQUE)
 inline constexpr uint32_t kTransmission = 1U << 14; // light through the surface (glass)
+// The least glossiness the material's lobe can have (glossFeatures): at least 1/4 leaves the
+// diffuse map out of the glossy blend, 1/2 the glossy-1 map too, 1 (a mirror) the glossy-2 map.
+inline constexpr uint32_t kGlossQuarter = 1U << 15;
+inline constexpr uint32_t kGlossHalf = 1U << 16;
+inline constexpr uint32_t kGlossMirror = 1U << 17;
 // Of the view (viewFeatures).
 inline constexpr uint32_t kShadow = 1U << 7;
 inline constexpr uint32_t kRgbmMaps = 1U << 8;
@@ -35,6 +40,14 @@ inline constexpr uint32_t kWritesRadiance = 1U << 9;
 
 // The view's bits, from the frame's uniforms as mesh.frag would read them.
 uint32_t viewFeatures(const FrameUniforms& frame);
+
+// The material's glossiness bits (kGlossQuarter, kGlossHalf or kGlossMirror; 0 for none),
+// from its uniforms. mesh.frag blends the four maps by the glossiness s' = s + (1 - s) f,
+// never below the lobe's own s (the Fresnel factor f only raises it), and llvmpipe runs
+// every lookup of the blend, weighted 0 or not: a floor known when the variant is linked
+// leaves out the maps below it. The car scene's paint (n = 500), grille (200) and chrome
+// (4096) read two maps, two and one instead of four.
+uint32_t glossFeatures(const MaterialUniforms& material);
 
 // mesh.frag's #define lines fixing every feature to true or false.
 std::string meshVariantDefines(uint32_t features);
