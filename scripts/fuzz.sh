@@ -7,11 +7,12 @@
 # working corpus from tests/fuzz/seeds/TARGET.txt and tests/fuzz/regressions/TARGET/, and
 # leaves crashes in build-fuzz/fuzz-artifacts/TARGET/. A crash found becomes a regression
 # input: copy it into tests/fuzz/regressions/TARGET/ and fix the loader (the suite's
-# fuzz_smoke_TARGET replays it). Environment: LUMAR_FUZZ_BUILD (build folder), JOBS, MAX_LEN.
+# fuzz_smoke_TARGET replays it). Environment: LUMAR_FUZZ_BUILD (build folder), JOBS, MAX_LEN,
+# BUILD=0 (run the target as built: while another fuzz.sh or a build uses the folder's ninja).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [ $# -lt 2 ]; then
-  sed -n '2,10p' "$0" >&2
+  sed -n '2,11p' "$0" >&2
   exit 2
 fi
 target=$1
@@ -30,7 +31,7 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLUMAR_FUZZ=ON \
     -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 "${launcher[@]}"
 fi
-cmake --build "$build" --target "fuzz_$target" -j"${JOBS:-2}"
+[ "${BUILD:-1}" = 0 ] || cmake --build "$build" --target "fuzz_$target" -j"${JOBS:-2}"
 
 corpus=$build/fuzz-corpus/$target
 artifacts=$build/fuzz-artifacts/$target

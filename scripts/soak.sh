@@ -8,13 +8,17 @@
 # without) and prints whether RSS, fds, threads or GL objects grew after the warm-up (the
 # first fifth of the run).
 #   scripts/soak.sh MINUTES [--interval S] [--out DIR] [--config FILE] [--lumar BINARY]
+#   scripts/soak.sh --minutes MINUTES [...]       (the same; the issue's spelling)
 # Default scene: the fake camera at 320x240, 10 fps (cheap enough to run beside a build);
 # --config runs any scene instead (its [output] is replaced by a status file in DIR).
 # Exits 1 when lumar died, did not stop cleanly on SIGTERM, or fds/threads/GL objects grew.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+if [ "${1:-}" = --minutes ] && [ $# -ge 2 ]; then
+  shift
+fi
 if [ $# -lt 1 ] || ! [[ $1 =~ ^[0-9]+([.][0-9]+)?$ ]]; then
-  sed -n '2,10p' "$0" >&2
+  sed -n '2,11p' "$0" >&2
   exit 2
 fi
 minutes=$1
@@ -34,6 +38,7 @@ while [ $# -gt 0 ]; do
 done
 [ -x "$lumar" ] || { echo "soak.sh: no lumar binary at $lumar (build it, or --lumar)" >&2; exit 2; }
 mkdir -p "$out"
+out=$(cd "$out" && pwd) # the config names it, and resolves relative paths from its own folder
 if [ -n "$config" ]; then
   # The scene's own tables (its [output] dropped: a second one is a TOML error) beside it, so
   # its relative paths still resolve; removed at the end.
