@@ -251,8 +251,9 @@ TEST(Reacquisition, SearchedWindowsHoldTheTagsFoundInThem)
         const std::vector<TagDetection> detections = tracker.detect(drawTags(twoTags(frame, 0, 0)));
         ASSERT_EQ(detections.size(), 2u);
         const std::vector<SearchWindow>& windows = tracker.searchedWindows();
-        if (frame == 0 || frame == kFullFrameEvery)
+        if (frame == 0 || frame == kFullFrameEvery) {
             EXPECT_TRUE(windows.empty()); // the first and the scheduled full-frame search
+        }
         if (windows.empty())
             continue;
         ++framesWithWindows;
