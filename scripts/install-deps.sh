@@ -20,6 +20,7 @@ build_packages=(
   libcairo2-dev # lumar markers: PDF, SVG and PNG pages (daemon/markers)
   libx11-dev # the preview window (gles_renderer/window), on EGL's X11 platform
   libxext-dev # the preview window's MIT-SHM presentation on a software rasteriser
+  libwayland-dev wayland-protocols libxkbcommon-dev # the preview window on Wayland (optional: LUMAR_WITH_WAYLAND)
   libfreetype-dev fonts-dejavu-core # the overlay's font, rasterised at build time (gles_renderer/overlay)
   libsystemd-dev
   glslang-tools
@@ -34,6 +35,7 @@ test_packages=(
   clang-format
   poppler-utils # pdftoppm: the markers test renders the PDF it prints
   xvfb xauth # the preview window tests run their own X server
+  weston # the Wayland preview window's tests run a headless weston
   qemu-system-x86 busybox-static cpio # scripts/virtual-board.sh: the virtual board system test
   python3-matplotlib # scripts/soak.sh: the soak's PNG plot (without it, an SVG)
 )

@@ -73,6 +73,7 @@ void DetectionWorker::run()
             const auto start = std::chrono::steady_clock::now();
             result.detections = tracker_.detect(working);
             result.maps = tracker_.detectMaps(result.detections);
+            result.windows = tracker_.searchedWindows();
             result.detectMs =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         } catch (...) {

@@ -22,9 +22,10 @@ public:
     struct Result {
         std::vector<TagDetection> detections;
         std::vector<MapDetection> maps;
-        uint64_t sequence = 0;   // of the frame detected in
-        int64_t timestampNs = 0; // its capture time
-        double detectMs = 0.0;   // how long the detection took
+        std::vector<SearchWindow> windows; // TagTracker::searchedWindows() for that frame
+        uint64_t sequence = 0;             // of the frame detected in
+        int64_t timestampNs = 0;           // its capture time
+        double detectMs = 0.0;             // how long the detection took
     };
 
     // The tracker is used by the worker thread alone from now until destruction.

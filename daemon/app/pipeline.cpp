@@ -635,6 +635,9 @@ void Pipeline::drawSetupOverlay(const FrameReport& report)
     input.intrinsics = intrinsics_;
     input.detections = report.detections;
     input.maps = report.maps;
+    // The detections' windows: the worker's copy with background detection (the tracker is
+    // the worker's then), the tracker's own otherwise.
+    input.searchWindows = worker_ ? latest_.windows : tracker_->searchedWindows();
     input.tagSize = [this](int id) { return config_.markerSize(id); };
     input.mapAxisLength = [this](int index) {
         double largest = 0.0;

@@ -49,7 +49,7 @@ void buildSetupOverlay(const SetupOverlayInput& input, OverlayScene& out)
     const float width = 2.0f * float(scale);
     const OverlayColor labelBackground{0, 0, 0, 170};
 
-    for (const OverlayWindow& w : input.searchWindows) {
+    for (const SearchWindow& w : input.searchWindows) {
         // The window's outer pixel edges, as a 1-px line along its border pixels' centres.
         const glm::dvec2 c[4] = {{w.x0, w.y0}, {w.x1 - 1, w.y0}, {w.x1 - 1, w.y1 - 1}, {w.x0, w.y1 - 1}};
         for (int i = 0; i < 4; ++i)

@@ -18,11 +18,6 @@
 
 namespace lumar {
 
-// A searched rectangle [x0, x1) x [y0, y1) of the image, in whole pixels.
-struct OverlayWindow {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-
 struct SetupOverlayInput {
     CameraIntrinsics intrinsics;
     std::span<const TagDetection> detections;
@@ -31,7 +26,9 @@ struct SetupOverlayInput {
     // largest tag.
     std::function<double(int id)> tagSize;
     std::function<double(int mapIndex)> mapAxisLength;
-    std::span<const OverlayWindow> searchWindows;
+    // The regions of interest the tracker searched for these detections (none: the whole
+    // frame), each outlined on its border pixels, thin, in kOverlaySearchWindow.
+    std::span<const SearchWindow> searchWindows;
     std::string status; // the status line, top left
 };
 

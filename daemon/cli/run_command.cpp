@@ -239,7 +239,7 @@ int runCommand(const RunCommandOptions& options)
         config.output.overlay = true;
     // Declared before the scene: its renderers draw on the display's EGL display.
     std::unique_ptr<KmsDisplay> kms;
-    std::unique_ptr<X11Window> window;
+    std::unique_ptr<PreviewWindow> window;
     if (config.output.sink == "kms" && !options.preview)
         kms = openKmsDisplay(config);
     else if (config.output.sink == "window" || options.preview)

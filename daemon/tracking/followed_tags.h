@@ -17,12 +17,6 @@
 
 namespace lumar {
 
-// A rectangle [x0, x1) x [y0, y1) of the image.
-struct SearchWindow {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    bool operator==(const SearchWindow&) const = default;
-};
-
 // A tag unseen for this many frames (1 s at 30 fps) is no longer looked for in a window of its
 // own; the scheduled full-frame searches still find it when it comes back.
 inline constexpr uint64_t kLostTagFrames = 30;

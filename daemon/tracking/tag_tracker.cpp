@@ -125,7 +125,8 @@ struct TagTracker::Impl {
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
     FollowedTags followed{0, 0, 8};
-    std::vector<int> lastIds; // the ids of the last frame's detections, sorted, copies repeated
+    std::vector<int> lastIds;              // the ids of the last frame's detections, sorted, copies repeated
+    std::vector<SearchWindow> lastWindows; // the last frame's windows (searchedWindows())
 
     // The maps solved from the last frame's detections (with roi and maps): they predict
     // where the maps' unseen tags are, and detectMaps() returns them without solving again.
@@ -260,6 +261,11 @@ const CameraIntrinsics& TagTracker::intrinsics() const
     return impl_->intrinsics;
 }
 
+const std::vector<SearchWindow>& TagTracker::searchedWindows() const
+{
+    return impl_->lastWindows;
+}
+
 const TagTracker::SearchCounts& TagTracker::searchCounts() const
 {
     return impl_->counts;
@@ -276,6 +282,7 @@ void TagTracker::Impl::forgetHistory()
 {
     followed = FollowedTags(intrinsics.width, intrinsics.height, roiAlignment);
     lastIds.clear();
+    lastWindows.clear();
     framesSinceFullSearch = 0;
     mapsInput.clear();
     mapsResult.clear();
@@ -296,6 +303,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
                          std::to_string(k.height));
     std::vector<TagDetection> result;
     ++impl_->frameCount;
+    impl_->lastWindows.clear();
     if (luma.width < kMinImageSide || luma.height < kMinImageSide)
         return result;
 
@@ -318,6 +326,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     if (!searched) {
         ++counts.fullSearches;
         result.clear();
+        impl_->lastWindows.clear();
         impl_->framesSinceFullSearch = 0;
         Impl::detectIn(*impl_->detector, pixels, luma.width, {0, 0, luma.width, luma.height}, result);
         sortDetections(result);
@@ -353,6 +362,7 @@ bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std
         }
     }
     sortDetections(out);
+    lastWindows = std::move(windows);
     // Every tag of the last frame found again (both lists sorted by id)? A tag missing now is
     // searched for at once in the full frame; if that misses it too, only its window is
     // searched on the following frames.

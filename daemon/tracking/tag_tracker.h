@@ -48,6 +48,12 @@ struct TagSizes {
     }
 };
 
+// A rectangle [x0, x1) x [y0, y1) of the image: a region of interest the tracker searched.
+struct SearchWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool operator==(const SearchWindow&) const = default;
+};
+
 struct TagMap;       // tracking/tag_map.h
 struct MapDetection; // tracking/tag_map.h
 
@@ -71,6 +77,11 @@ public:
     [[nodiscard]] std::vector<MapDetection> detectMaps(const std::vector<TagDetection>& detections) const;
 
     [[nodiscard]] const CameraIntrinsics& intrinsics() const;
+
+    // The windows around followed tags (DESIGN.md §5) whose search gave the last detect()'s
+    // result; empty when that frame was searched whole (the first, a scheduled or a fallback
+    // full-frame search, or roi off). What the setup view draws (app/setup_overlay.h).
+    [[nodiscard]] const std::vector<SearchWindow>& searchedWindows() const;
 
     // How the frames were searched since construction (never reset): for benchmarks and logs.
     struct SearchCounts {

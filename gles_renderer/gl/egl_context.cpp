@@ -112,6 +112,11 @@ std::shared_ptr<EglDisplay> EglDisplay::x11(void* xlibDisplay)
     return initialise(EGL_PLATFORM_X11_KHR, xlibDisplay, "X11");
 }
 
+std::shared_ptr<EglDisplay> EglDisplay::wayland(void* wlDisplay)
+{
+    return initialise(EGL_PLATFORM_WAYLAND_KHR, wlDisplay, "Wayland");
+}
+
 std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativeDisplay, const char* what)
 {
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
@@ -122,6 +127,9 @@ std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativ
         platform == EGL_PLATFORM_SURFACELESS_MESA ? extensionListHas(client, "EGL_MESA_platform_surfaceless")
         : platform == EGL_PLATFORM_X11_KHR
             ? extensionListHas(client, "EGL_KHR_platform_x11") || extensionListHas(client, "EGL_EXT_platform_x11")
+        : platform == EGL_PLATFORM_WAYLAND_KHR
+            ? extensionListHas(client, "EGL_KHR_platform_wayland") ||
+                  extensionListHas(client, "EGL_EXT_platform_wayland")
             : extensionListHas(client, "EGL_KHR_platform_gbm") || extensionListHas(client, "EGL_MESA_platform_gbm");
     const std::string missing =
         std::string("no EGL display for the ") + what + " platform (is Mesa's libegl-mesa0 installed?)";

@@ -28,6 +28,9 @@ public:
     // (gles_renderer/window). Not shared; its holders let go before the X connection closes.
     // Throws RuntimeError.
     static std::shared_ptr<EglDisplay> x11(void* xlibDisplay);
+    // A display on the Wayland platform of `wlDisplay` (a struct wl_display*), for a desktop
+    // window on Wayland. Not shared; its holders let go before the connection closes.
+    static std::shared_ptr<EglDisplay> wayland(void* wlDisplay);
 
     EglDisplay(EglDisplay&& other) noexcept;
     EglDisplay& operator=(EglDisplay&& other) noexcept;

@@ -235,5 +235,66 @@ TEST(OverlayTest, NothingBehindTheCameraIsDrawn)
     EXPECT_NE(overlay.texts[0].text.find("id 7"), std::string::npos);
 }
 
+// The tracker's search windows (TagTracker::searchedWindows) drawn thin in their own colour:
+// every pixel the overlay changed lies on a window's border (within 1 px plus half the line's
+// width of the border pixels' centres), and every border pixel was drawn.
+TEST(OverlayTest, SearchWindowsAreOutlinedOnTheirBorderPixels)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const CameraIntrinsics k = test::makeIntrinsics(kWidth, kHeight, 300, 300, 159.5, 119.5);
+    const SearchWindow windows[] = {{16, 24, 120, 104}, {200, 136, 320, 240}}; // the second at the image's corner
+    SetupOverlayInput input;
+    input.intrinsics = k;
+    input.searchWindows = windows;
+    OverlayScene overlay;
+    buildSetupOverlay(input, overlay);
+    ASSERT_EQ(overlay.lines.size(), 8u);
+    for (const OverlayLine& line : overlay.lines) {
+        EXPECT_EQ(line.color, kOverlaySearchWindow);
+        EXPECT_LT(line.widthPx, 2.0f); // thinner than the tags' outlines
+    }
+    EXPECT_FALSE(kOverlaySearchWindow == kOverlayTagWithPose || kOverlaySearchWindow == kOverlayTagWithoutPose);
+
+    renderer.render(test::solidImage(kWidth, kHeight, kGrey, kGrey, kGrey), k, {});
+    renderer.drawOverlay(overlay);
+    Image8 frame;
+    renderer.readback(frame);
+
+    const auto border = [](const SearchWindow& w) {
+        return std::array<glm::dvec2, 4>{glm::dvec2(w.x0, w.y0), glm::dvec2(w.x1 - 1, w.y0),
+                                         glm::dvec2(w.x1 - 1, w.y1 - 1), glm::dvec2(w.x0, w.y1 - 1)};
+    };
+    const auto changed = [&](int x, int y) {
+        const uint8_t* p = pixel(frame, x, y);
+        return p[0] != kGrey || p[1] != kGrey || p[2] != kGrey;
+    };
+    const double tolerance = 0.5 * overlay.lines[0].widthPx + 1.0;
+    int drawn = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            if (changed(x, y)) {
+                ++drawn;
+                const uint8_t* p = pixel(frame, x, y);
+                EXPECT_TRUE(p[2] > p[0] + 100 && p[1] > p[0] + 100) << "not cyan at " << x << "," << y;
+                double nearest = 1e9;
+                for (const SearchWindow& w : windows)
+                    nearest = std::min(nearest, distanceToOutline({x, y}, border(w)));
+                EXPECT_LE(nearest, tolerance) << "pixel " << x << "," << y;
+            }
+    int perimeter = 0;
+    for (const SearchWindow& w : windows) {
+        for (int x = w.x0; x < w.x1; ++x) {
+            EXPECT_TRUE(changed(x, w.y0)) << x << "," << w.y0;
+            EXPECT_TRUE(changed(x, w.y1 - 1)) << x << "," << w.y1 - 1;
+        }
+        for (int y = w.y0; y < w.y1; ++y) {
+            EXPECT_TRUE(changed(w.x0, y)) << w.x0 << "," << y;
+            EXPECT_TRUE(changed(w.x1 - 1, y)) << w.x1 - 1 << "," << y;
+        }
+        perimeter += 2 * (w.x1 - w.x0) + 2 * (w.y1 - w.y0) - 4;
+    }
+    EXPECT_EQ(drawn, perimeter); // a 1-px line: the border pixels, nothing else
+}
+
 } // namespace
 } // namespace lumar

@@ -238,5 +238,49 @@ TEST(Reacquisition, TwoDetectorsFindExactlyWhatOneFinds)
     EXPECT_GT(parallel.searchCounts().windowSearches, 0u);
 }
 
+// The windows a frame was searched in (what the setup view draws): none on a full-frame
+// search, otherwise windows that hold every tag found, and none at all with roi off.
+TEST(Reacquisition, SearchedWindowsHoldTheTagsFoundInThem)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TagTracker tracker(roiConfig(), camera(), sizes);
+    int framesWithWindows = 0;
+    for (int frame = 0; frame <= kFullFrameEvery; ++frame) {
+        SCOPED_TRACE("frame " + std::to_string(frame));
+        const std::vector<TagDetection> detections = tracker.detect(drawTags(twoTags(frame, 0, 0)));
+        ASSERT_EQ(detections.size(), 2u);
+        const std::vector<SearchWindow>& windows = tracker.searchedWindows();
+        if (frame == 0 || frame == kFullFrameEvery) {
+            EXPECT_TRUE(windows.empty()); // the first and the scheduled full-frame search
+        }
+        if (windows.empty())
+            continue;
+        ++framesWithWindows;
+        for (const SearchWindow& w : windows)
+            EXPECT_TRUE(w.x0 >= 0 && w.y0 >= 0 && w.x1 <= kWidth && w.y1 <= kHeight && w.x0 < w.x1 && w.y0 < w.y1);
+        for (const TagDetection& d : detections) {
+            bool inside = false;
+            for (const SearchWindow& w : windows) {
+                bool all = true;
+                for (const glm::dvec2& c : d.corners)
+                    all = all && c.x >= w.x0 && c.x < w.x1 && c.y >= w.y0 && c.y < w.y1;
+                inside = inside || all;
+            }
+            EXPECT_TRUE(inside) << "tag " << d.id;
+        }
+    }
+    // Windows are reported exactly for the frames whose window search stood.
+    EXPECT_EQ(uint64_t(framesWithWindows), tracker.searchCounts().windowSearches);
+    EXPECT_GT(framesWithWindows, 0);
+    TrackingConfig whole = roiConfig();
+    whole.roi = false;
+    TagTracker fullFrames(whole, camera(), sizes);
+    for (int frame = 0; frame < 3; ++frame) {
+        EXPECT_EQ(fullFrames.detect(drawTags(twoTags(frame, 0, 0))).size(), 2u);
+        EXPECT_TRUE(fullFrames.searchedWindows().empty());
+    }
+}
+
 } // namespace
 } // namespace lumar
