@@ -311,6 +311,19 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
             gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb, textureLimit);
             applySampler(gpu.textures[t], t < model.textureSamplers.size() ? model.textureSamplers[t] : GltfSampler{});
         }
+    // A tangent-rotation map holds an angle that wraps (a / pi in [0, 1], and 1 turns T as 0
+    // does): filtering across the wrap (bilinear, or the mipmaps' averages) gives a texel of
+    // about 0.5, a 90 degree turn, and the brushed swirl of the paper's figure 1 showed the
+    // wrap as a thin line through its centre. Sampled nearest, without mipmaps, each pixel
+    // reads one texel's angle; the swirl's angle changes by under a degree from texel to
+    // texel away from its centre, so the steps do not show.
+    for (const GltfMaterial& material : model.materials)
+        if (material.tangentRotationTexture >= 0) {
+            glBindTexture(GL_TEXTURE_2D, gpu.textures[size_t(material.tangentRotationTexture)].name());
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glBindTexture(GL_TEXTURE_2D, 0);
+        }
     for (const GltfMaterial& material : model.materials)
         gpu.materials.push_back(uploadMaterial(material, gpu.textures, model.textures, defaults));
     gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, model.textures, defaults));
