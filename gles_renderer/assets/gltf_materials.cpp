@@ -298,6 +298,32 @@ const tinygltf::Value* materialExtension(const tinygltf::Material& material, con
     return &found->second;
 }
 
+// A textureInfo object inside a material extension (tinygltf leaves those as raw values):
+// its index resolved as a linear texture, its uv set and transform into `transform`.
+int extensionTexture(const tinygltf::Value& info, const std::string& field, TextureTable& textures,
+                     GltfUvTransform& transform)
+{
+    if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt() ||
+        info.Get("index").GetNumberAsInt() < 0) {
+        throw InputError(field + ": expected a textureInfo object with a non-negative index");
+    }
+    int texCoord = 0;
+    if (info.Has("texCoord")) {
+        if (!info.Get("texCoord").IsInt() || info.Get("texCoord").GetNumberAsInt() < 0) {
+            throw InputError(field + " texCoord: expected a non-negative integer");
+        }
+        texCoord = info.Get("texCoord").GetNumberAsInt();
+    }
+    tinygltf::ExtensionMap extensions;
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+        for (const std::string& key : info.Get("extensions").Keys()) {
+            extensions[key] = info.Get("extensions").Get(key);
+        }
+    }
+    transform = uvTransform(texCoord, extensions, field);
+    return textures.resolve(info.Get("index").GetNumberAsInt(), texCoord, false, field);
+}
+
 // KHR_materials_transmission (factor, texture), KHR_materials_ior and KHR_materials_volume
 // (thickness, attenuation). Ranges are the extensions' own; bounds the specifications leave
 // open are 1e6 (model units), beyond which float arithmetic in the shader overflows.
@@ -310,27 +336,8 @@ void readTransmission(const tinygltf::Material& source, const std::string& what,
         const std::string where = what + " KHR_materials_transmission";
         t.factor = extensionNumber(*e, "transmissionFactor", 0.0f, 0.0, 1.0, false, where);
         if (e->Has("transmissionTexture")) {
-            const tinygltf::Value& info = e->Get("transmissionTexture");
-            const std::string field = where + " transmissionTexture";
-            if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt() ||
-                info.Get("index").GetNumberAsInt() < 0) {
-                throw InputError(field + ": expected a textureInfo object with a non-negative index");
-            }
-            int texCoord = 0;
-            if (info.Has("texCoord")) {
-                if (!info.Get("texCoord").IsInt() || info.Get("texCoord").GetNumberAsInt() < 0) {
-                    throw InputError(field + " texCoord: expected a non-negative integer");
-                }
-                texCoord = info.Get("texCoord").GetNumberAsInt();
-            }
-            tinygltf::ExtensionMap extensions;
-            if (info.Has("extensions") && info.Get("extensions").IsObject()) {
-                for (const std::string& key : info.Get("extensions").Keys()) {
-                    extensions[key] = info.Get("extensions").Get(key);
-                }
-            }
-            t.uvTransform = uvTransform(texCoord, extensions, field);
-            t.texture = textures.resolve(info.Get("index").GetNumberAsInt(), texCoord, false, field);
+            t.texture = extensionTexture(e->Get("transmissionTexture"), where + " transmissionTexture", textures,
+                                         t.uvTransform);
         }
     }
     if (const tinygltf::Value* e = materialExtension(source, "KHR_materials_ior", what)) {
@@ -346,6 +353,11 @@ void readTransmission(const tinygltf::Material& source, const std::string& what,
     if (const tinygltf::Value* e = materialExtension(source, "KHR_materials_volume", what)) {
         const std::string where = what + " KHR_materials_volume";
         t.thickness = extensionNumber(*e, "thicknessFactor", 0.0f, 0.0, 1e6, false, where);
+        if (e->Has("thicknessTexture")) {
+            GltfUvTransform unused; // the mean over the texture is used (volumeThickness)
+            t.thicknessTexture =
+                extensionTexture(e->Get("thicknessTexture"), where + " thicknessTexture", textures, unused);
+        }
         t.attenuationDistance = extensionNumber(*e, "attenuationDistance", std::numeric_limits<float>::infinity(), 0.0,
                                                 std::numeric_limits<double>::infinity(), true, where);
         if (e->Has("attenuationColor")) {

@@ -554,6 +554,21 @@ size_t GltfModel::triangleCount() const
     return triangles;
 }
 
+float volumeThickness(const GltfTransmission& transmission, const std::vector<GltfTexture>& textures)
+{
+    const int index = transmission.thicknessTexture;
+    if (index < 0 || size_t(index) >= textures.size())
+        return transmission.thickness;
+    const Image8& image = textures[size_t(index)].image;
+    const size_t texels = size_t(image.width) * size_t(image.height);
+    if (texels == 0 || image.channels < 2 || image.data.size() < texels * size_t(image.channels))
+        return transmission.thickness;
+    double sum = 0.0;
+    for (size_t i = 0; i < texels; ++i)
+        sum += image.data[i * size_t(image.channels) + 1];
+    return float(double(transmission.thickness) * sum / (255.0 * double(texels)));
+}
+
 GltfModel loadGltfModel(const std::filesystem::path& file)
 {
     const std::string fileName = file.string();

@@ -85,6 +85,9 @@ struct GltfTransmission {
     // KHR_materials_volume: 0 is thin-walled (the view passes straight through); above 0 the
     // object is solid and bends the view at its surface. Model units.
     float thickness = 0.0f;
+    // KHR_materials_volume thicknessTexture: its green x `thickness` (index into
+    // GltfModel::textures, linear; -1: none). See volumeThickness.
+    int thicknessTexture = -1;
     glm::vec3 attenuationColor{1.0f}; // the colour white light turns after attenuationDistance
     float attenuationDistance = std::numeric_limits<float>::infinity(); // > 0, model units
     // What tints the light through: glTF's base colour factor (x the base-colour texel); a
@@ -158,6 +161,12 @@ struct GltfModel {
     std::shared_ptr<const GltfRig> rig;
     [[nodiscard]] size_t triangleCount() const;
 };
+
+// The volume's thickness (KHR_materials_volume, model units) where the renderer uses it: the
+// thickness factor x the mean green of its thickness texture (the renderer takes the volume's
+// thickness as one number: its attenuation over it, and 0 for thin-walled). The factor alone
+// without a texture, or where `textures` does not hold it.
+float volumeThickness(const GltfTransmission& transmission, const std::vector<GltfTexture>& textures);
 
 // Throws InputError "FILE: what is wrong" for a missing, corrupt or unsupported file.
 GltfModel loadGltfModel(const std::filesystem::path& file);

@@ -36,7 +36,7 @@ constexpr glm::vec3 kPhongMirrorLobe{-1.0f, -1.0f, 1.0f};
 
 // Reflectances are linear, F0-style values at normal incidence; the Fresnel factor raises
 // rho_s towards 1 at grazing angles.
-const std::array<Preset, 7> kPresets = {{
+const std::array<Preset, 8> kPresets = {{
     // Polished chrome plating as viewers expect it: a neutral near-mirror. (Bare chromium's
     // F0 is only ~0.55; 0.95 is the look of a chromed bumper or a silvered mirror.) No
     // diffuse term at all, as for every metal; n = the exponent cap, i.e. the mirror map.
@@ -73,6 +73,14 @@ const std::array<Preset, 7> kPresets = {{
     // Clear glass: no diffuse, F0 of index 1.5, a perfect mirror with Schlick's Fresnel. The
     // light through the glass is materialPresetTransmission's, not the BRDF's.
     {"glass",
+     params(glm::vec3(0.0f), glm::vec3(kDielectricSpecular), kPhongMirrorLobe, kMaxLafortuneExponent,
+            kMetallicRoughnessFresnelPhi),
+     false},
+    // A pane of clear glass (a window): the same surface as `glass`, but thin-walled
+    // (glTF's thickness 0), so the view passes straight through and is not bent as a
+    // lens bends it (a 4 mm pane shifts the view sideways by about 1 mm and keeps its
+    // direction).
+    {"thin_glass",
      params(glm::vec3(0.0f), glm::vec3(kDielectricSpecular), kPhongMirrorLobe, kMaxLafortuneExponent,
             kMetallicRoughnessFresnelPhi),
      false},
@@ -136,12 +144,12 @@ glm::vec3 materialPresetEmission(std::string_view name)
 GltfTransmission materialPresetTransmission(std::string_view name)
 {
     GltfTransmission t;
-    if (name == "glass") {
+    if (name == "glass" || name == "thin_glass") {
         t.factor = 1.0f;
         t.ior = 1.5f; // F0 0.04, the preset's rho_s
         // Any thickness above 0 makes it solid (the view bends at the surface); with no
-        // attenuation its value changes nothing else.
-        t.thickness = 1.0f;
+        // attenuation its value changes nothing else. 0 is glTF's thin-walled surface.
+        t.thickness = name == "glass" ? 1.0f : 0.0f;
     }
     return t;
 }

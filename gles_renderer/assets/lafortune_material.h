@@ -38,7 +38,8 @@ inline constexpr float kMaxLobeCoefficient = 4.0f;
 // [0, 1].
 LafortuneParams lafortuneFromMetallicRoughness(glm::vec3 baseColor, float metallic, float roughness);
 
-// Named parameter sets (chrome, brushed_metal, car_paint, rubber, plastic, glass, emissive);
+// Named parameter sets (chrome, brushed_metal, car_paint, rubber, plastic, glass, thin_glass,
+// emissive);
 // nothing for an unknown name. Every preset keeps rho_d + rho_s <= 1 per channel and
 // |C_i| <= 1, so it reflects no more energy than it receives.
 std::optional<LafortuneParams> materialPreset(std::string_view name);
@@ -51,7 +52,8 @@ inline constexpr float kEmissivePresetRadiance = 4.0f;
 // "emissive", black for every other preset and for unknown names.
 glm::vec3 materialPresetEmission(std::string_view name);
 // What light a preset lets through the surface: the `glass` preset is solid clear glass of
-// index 1.5 (refracting, untinted); every other preset none (factor 0).
+// index 1.5 (refracting, untinted), `thin_glass` a thin-walled pane of it (thickness 0: the
+// view goes straight through); every other preset none (factor 0).
 GltfTransmission materialPresetTransmission(std::string_view name);
 // All preset names, in a stable order (for error messages and documentation).
 std::span<const std::string_view> materialPresetNames();

@@ -113,8 +113,9 @@ void checkTexture(const GltfModel& model, size_t index, GLint maxSize)
                          "; the renderer needs RGBA of at most " + std::to_string(maxSize) + " pixels a side");
 }
 
+// `images`: the model's textures as loaded (the thickness texture is read here, not uploaded).
 GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& textures,
-                           const DefaultTextures& defaults)
+                           const std::vector<GltfTexture>& images, const DefaultTextures& defaults)
 {
     const auto textureOr = [&](int index, const GlTexture& fallback) {
         return index >= 0 ? textures[size_t(index)].name() : fallback.name();
@@ -138,12 +139,13 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     if (transmissive) {
         // F0 = ((ior - 1) / (ior + 1))^2 (KHR_materials_ior; 1 for its special value 0).
         const float f0 = t.ior == 0.0f ? 1.0f : std::pow((t.ior - 1.0f) / (t.ior + 1.0f), 2.0f);
+        const float thickness = volumeThickness(t, images);
         block.transmission =
-            glm::vec4(t.factor, t.thickness > 0.0f && t.ior >= 1.0f ? 1.0f / t.ior : 1.0f, f0, has(t.texture));
+            glm::vec4(t.factor, thickness > 0.0f && t.ior >= 1.0f ? 1.0f / t.ior : 1.0f, f0, has(t.texture));
         // Beer-Lambert over the thickness (KHR_materials_volume): colour^(thickness/distance).
         glm::vec3 attenuation(1.0f);
-        if (t.thickness > 0.0f && std::isfinite(t.attenuationDistance))
-            attenuation = glm::pow(t.attenuationColor, glm::vec3(t.thickness / t.attenuationDistance));
+        if (thickness > 0.0f && std::isfinite(t.attenuationDistance))
+            attenuation = glm::pow(t.attenuationColor, glm::vec3(thickness / t.attenuationDistance));
         block.transmissionTint = glm::vec4(t.tint * attenuation, 1.0f);
         const std::array<glm::vec3, 2> rows = t.uvTransform.rows();
         block.transmissionUv[0] = glm::vec4(rows[0], t.uvTransform.texCoord == 1 ? 1.0f : 0.0f);
@@ -309,9 +311,22 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
             gpu.textures[t] = uploadMaterialTexture(model.textures[t].image, model.textures[t].srgb, textureLimit);
             applySampler(gpu.textures[t], t < model.textureSamplers.size() ? model.textureSamplers[t] : GltfSampler{});
         }
+    // A tangent-rotation map holds an angle that wraps (a / pi in [0, 1], and 1 turns T as 0
+    // does): filtering across the wrap (bilinear, or the mipmaps' averages) gives a texel of
+    // about 0.5, a 90 degree turn, and the brushed swirl of the paper's figure 1 showed the
+    // wrap as a thin line through its centre. Sampled nearest, without mipmaps, each pixel
+    // reads one texel's angle; the swirl's angle changes by under a degree from texel to
+    // texel away from its centre, so the steps do not show.
     for (const GltfMaterial& material : model.materials)
-        gpu.materials.push_back(uploadMaterial(material, gpu.textures, defaults));
-    gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, defaults));
+        if (material.tangentRotationTexture >= 0) {
+            glBindTexture(GL_TEXTURE_2D, gpu.textures[size_t(material.tangentRotationTexture)].name());
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glBindTexture(GL_TEXTURE_2D, 0);
+        }
+    for (const GltfMaterial& material : model.materials)
+        gpu.materials.push_back(uploadMaterial(material, gpu.textures, model.textures, defaults));
+    gpu.materials.push_back(uploadMaterial(GltfMaterial{}, gpu.textures, model.textures, defaults));
     const size_t defaultMaterial = gpu.materials.size() - 1;
     // Vertices a rig deforms are uploaded again with every pose.
     const bool deforms = model.rig && model.rig->deforms();

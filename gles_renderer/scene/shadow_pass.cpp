@@ -143,7 +143,8 @@ void ShadowPass::linkDepthProgram()
     depthProgram_ = linkProgram(kDepthOnlyProgram);
     depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
     bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
-    // glTF alphaMode MASK: the surface cut where mesh.frag cuts it.
+    // glTF alphaMode MASK: the surface cut where mesh.frag cuts it; BLEND and transmission:
+    // dithered by their opacity (depth_only.frag).
     cutoutProgram_ = linkProgram(kDepthOnlyProgram, "#define ALPHA_CUTOUT 1\n");
     cutoutCameraFromMeshLocation_ = uniformLocation(cutoutProgram_, "uCameraFromMesh");
     bindUniformBlock(cutoutProgram_, "Frame", kFrameBlockBinding);
@@ -364,7 +365,8 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
         for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
             const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];
-            const bool cutout = material.alphaMode == GltfAlphaMode::Mask;
+            // MASK cut as mesh.frag cuts it; BLEND and glass let part of the light through.
+            const bool cutout = material.alphaMode != GltfAlphaMode::Opaque || material.transmissive;
             const GlProgram* program = cutout ? &cutoutProgram_ : &depthProgram_;
             if (bound != program) {
                 glUseProgram(program->name());

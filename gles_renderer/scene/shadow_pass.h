@@ -121,7 +121,9 @@ private:
     GlFramebuffer framebuffer_;
     GlProgram depthProgram_;
     GLint depthCameraFromMeshLocation_ = -1;
-    // depth_only with ALPHA_CUTOUT, for MASK materials; their base colour on this unit.
+    // depth_only with ALPHA_CUTOUT, for MASK, BLEND and transmissive materials (cut out, and
+    // dithered by their opacity: translucent casters cast partial shadows); their base colour
+    // on this unit.
     static constexpr GLuint kCutoutTextureUnit = 0;
     GlProgram cutoutProgram_;
     GLint cutoutCameraFromMeshLocation_ = -1;

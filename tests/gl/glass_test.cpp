@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -21,6 +22,7 @@
 #include "../unit/render/render_test_support.h"
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/lafortune_material.h"
 
 namespace lumar {
 namespace {
@@ -84,6 +86,17 @@ GltfMaterial clearNonReflecting(float ior)
     m.lafortune.specular = glm::vec3(0.0f);
     m.lafortune.exponent = 4096.0f;
     m.lafortune.fresnelPhi = 0.0f;
+    return m;
+}
+
+// A material preset as a sidecar's `preset = "..."` gives it: its Lafortune surface and the
+// light it lets through.
+GltfMaterial presetMaterial(std::string_view name)
+{
+    GltfMaterial m;
+    m.hasLafortune = true;
+    m.lafortune = *materialPreset(name);
+    m.transmission = materialPresetTransmission(name);
     return m;
 }
 
@@ -207,6 +220,32 @@ TEST(Glass, TheWallIsSeenRefractedThroughTheSphereAndNotLost)
     // Not lost: the mean brightness behind the glass stays within 20% of the wall's there
     // (4% goes to the reflection, which shows the sky and the wall again).
     EXPECT_NEAR(glassMean / wallMean, 1.0, 0.2) << "wall " << wallMean << ", through glass " << glassMean;
+}
+
+// The presets as the milk truck's windows use them: the `glass` preset is solid (a ball of it
+// turns the wall's ramp round, as the metallic-roughness glass above does), `thin_glass` a
+// thin-walled pane: the view passes straight through, so the ramp keeps its direction and
+// steepness behind it (only the environment map's 5% nearer viewpoint and the rim's
+// reflection change it), and its brightness.
+TEST(Glass, ThinGlassPresetDoesNotBendTheViewAndSolidGlassDoes)
+{
+    RENDER_OR_SKIP(wallAlone, true, std::nullopt);
+    RENDER_OR_SKIP(solid, true, presetMaterial("glass"));
+    RENDER_OR_SKIP(thin, true, presetMaterial("thin_glass"));
+    const std::vector<glm::ivec2> inner = pixelsWithIncidence(0.3, 1.0);
+    ASSERT_GT(inner.size(), 1000u);
+    const double wallSlope = middleRowSlope(wallAlone);
+    const double solidSlope = middleRowSlope(solid);
+    const double thinSlope = middleRowSlope(thin);
+    const double wallMean = meanGreen(wallAlone, inner);
+    const double thinMean = meanGreen(thin, inner);
+    std::printf("middle-row slope: wall %.5f, glass preset %.5f, thin_glass preset %.5f per pixel; "
+                "mean: wall %.4f, thin_glass %.4f\n",
+                wallSlope, solidSlope, thinSlope, wallMean, thinMean);
+    EXPECT_GT(wallSlope, 0.0);
+    EXPECT_LT(solidSlope, -0.5 * wallSlope) << "solid glass turns the ramp round";
+    EXPECT_NEAR(thinSlope / wallSlope, 1.0, 0.2) << "a pane keeps the ramp's direction and steepness";
+    EXPECT_NEAR(thinMean / wallMean, 1.0, 0.1) << "and its brightness, less the 4% reflected";
 }
 
 TEST(Glass, IndexOneWithoutReflectionLeavesTheWallNearlyUndistorted)

@@ -288,5 +288,56 @@ TEST(LensRenderer, AnEmissiveCardBloomsOnlyAboveTheThreshold)
     }
 }
 
+// The bloom's faint tail reaches far past the card: every pixel it touches is taken back to
+// linear light, added to and encoded again, so that round trip must keep every code value.
+// Over a camera image holding every code (dark ones too, where an sRGB fit is least exact: a
+// cubic fit turned codes 1 to 53 up to 5 codes darker, fig. 6's darker pixels away from the
+// lamps) no pixel comes out darker with the effects on than off, both image formats.
+TEST(LensRenderer, NoCameraCodeDarkensUnderTheBloomsTail)
+{
+    constexpr int kW = 160, kH = 120;
+    const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 80, 60);
+    Image8 ramp(kW, kH, 3);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            for (int c = 0; c < 3; ++c)
+                ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+    const auto renderCard = [&](bool lensOn, bool rgbm) {
+        RenderOptions options;
+        options.lens.enabled = lensOn;
+        options.lens.images = rgbm ? LensImageFormat::Rgbm : LensImageFormat::Float;
+        options.lens.glare = true;
+        options.lens.bloomRadius = 16.0f;
+        options.lens.glareLength = 24.0f;
+        auto made = test::tryCreateRenderer(kW, kH, options);
+        Image8 out;
+        if (!made.renderer)
+            return out;
+        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
+        const GltfModel card =
+            test::cameraFacingRectangle(-0.05f, -0.05f, 0.05f, 0.05f, test::emissiveMaterial(glm::vec3(8.0f)));
+        const DrawItem item{made.renderer->addModel(card), test::translation(0, 0, 1)};
+        made.renderer->render(ramp, k, {&item, 1});
+        made.renderer->readback(out);
+        return out;
+    };
+    for (const bool rgbm : {false, true}) {
+        SCOPED_TRACE(rgbm ? "rgbm" : "float");
+        const Image8 off = renderCard(false, rgbm);
+        if (off.width == 0)
+            GTEST_SKIP() << "no GLES 3 renderer";
+        const Image8 on = renderCard(true, rgbm);
+        int darker = 0, worst = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const int d = int(on.at(x, y)[c]) - int(off.at(x, y)[c]);
+                    darker += d < -1;
+                    worst = std::min(worst, d);
+                }
+        EXPECT_EQ(darker, 0) << "the most: " << worst << " codes";
+    }
+}
+
 } // namespace
 } // namespace lumar

@@ -4,13 +4,16 @@
 // occlusion. The scene is seen from 1 m straight above the world origin (world z up), under a
 // uniform environment, over a uniform grey camera image.
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/lafortune_material.h"
 
 namespace lumar {
 namespace {
@@ -167,6 +170,63 @@ TEST(Shadows, AFloatingBoxShadowsTheGroundPhantomByTheLightsShare)
             }
         }
     EXPECT_EQ(unchanged, total);
+}
+
+// Translucent casters cast partial shadows (depth_only.frag's dither, averaged by the PCF): a
+// floating panel (0.1 x 0.1 x 0.01 m, 0.3 m above the ground phantom, as the box above) casts
+// the umbra of the light's share when opaque; blended with alpha 0.5 it stops half the light,
+// so the darkening of the ground (1 - linear ratio) is half the opaque one's; of clear glass
+// (the thin_glass preset: transmission 1, 4% reflected) it stops about 4% (one texel in 16 of
+// the dither). Measured as the mean over the umbra's middle (15 x 15 pixels, 0.06 m square).
+TEST(Shadows, TranslucentCastersCastPartialShadows)
+{
+    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
+    const glm::dvec3 panelCentre(0.0, 0.0, 0.3);
+    const glm::dvec3 shadowCentre = panelCentre - towardsLight * (panelCentre.z / towardsLight.z);
+    const auto darkening = [&](const GltfMaterial& material) -> std::optional<double> {
+        test::RendererOrReason made = test::tryCreateRenderer(kWidth, kHeight, shadowsOn());
+        if (!made.renderer)
+            return std::nullopt;
+        SceneRenderer& renderer = *made.renderer;
+        prepare(renderer, 1.0f);
+        renderer.setLight(light(towardsLight, 2.0f));
+        GltfModel panel = makeCube();
+        panel.materials[0] = material;
+        const ModelId cube = renderer.addModel(makeCube());
+        const ModelId panelId = renderer.addModel(panel);
+        const DrawItem items[] = {groundPhantom(cube), {panelId, placed(panelCentre, {0.1, 0.1, 0.01}), -1}};
+        const Image8 out = renderOverGrey(renderer, items);
+        const glm::dvec2 centre = pixelOf(shadowCentre);
+        const double grey = test::srgbDecode(kGrey / 255.0);
+        double sum = 0.0;
+        int n = 0;
+        for (int dy = -7; dy <= 7; ++dy)
+            for (int dx = -7; dx <= 7; ++dx) {
+                const int value = out.at(int(std::lround(centre.x)) + dx, int(std::lround(centre.y)) + dy)[1];
+                sum += 1.0 - test::srgbDecode(value / 255.0) / grey;
+                ++n;
+            }
+        return sum / n;
+    };
+    const std::optional<double> opaque = darkening(GltfMaterial{});
+    if (!opaque)
+        GTEST_SKIP() << "no GLES 3 renderer";
+    GltfMaterial blend;
+    blend.alphaMode = GltfAlphaMode::Blend;
+    blend.baseColorFactor.a = 0.5f;
+    GltfMaterial glass;
+    glass.hasLafortune = true;
+    glass.lafortune = *materialPreset("thin_glass");
+    glass.transmission = materialPresetTransmission("thin_glass");
+    const double half = *darkening(blend);
+    const double clear = *darkening(glass);
+    std::printf("umbra darkening: opaque %.4f, alpha 0.5 %.4f (ratio %.3f), thin glass %.4f (ratio %.3f)\n", *opaque,
+                half, half / *opaque, clear, clear / *opaque);
+    // The opaque panel's umbra is the light's share, as before: 1 - E_L / E_env.
+    EXPECT_NEAR(*opaque, 2.0 * std::sin(kPi / 3.0) / kPi, 0.03);
+    EXPECT_NEAR(half / *opaque, 0.5, 0.1);
+    EXPECT_GT(clear / *opaque, 0.0) << "glass reflects a little of the light";
+    EXPECT_LT(clear / *opaque, 0.12);
 }
 
 // The darkening is shaded at a fraction of the frame's resolution (ShadowOptions::receiverScale)

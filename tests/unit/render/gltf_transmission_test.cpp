@@ -64,6 +64,35 @@ TEST(GltfTransmission, FactorsTextureIorAndVolumeAreRead)
     EXPECT_TRUE(std::isinf(none.attenuationDistance));
 }
 
+// KHR_materials_volume thicknessTexture: read as linear data, and its green (the
+// specification's channel) scales the thickness factor where the renderer uses the thickness
+// (one number per material: the mean over the texture).
+TEST(GltfTransmission, TheThicknessTextureScalesTheThickness)
+{
+    ScratchDir dir;
+    FeatureGltf g;
+    // Green 255 and 51 (1 and 0.2): mean 0.6; red and blue must not count.
+    const int texture = g.texture(dir, "thickness", test::texelImage(2, 1, {{0, 255, 0, 255}, {255, 51, 255, 255}}));
+    g.primitive(g.quadAttributes(0, 0, 1, 1, 0, 0, 0, 1, 1),
+                g.material(R"({"extensions":{"KHR_materials_transmission":{"transmissionFactor":1},)"
+                           R"("KHR_materials_volume":{"thicknessFactor":0.5,"thicknessTexture":{"index":)" +
+                           std::to_string(texture) + R"(}}}})"));
+    g.extensionsUsed = {"KHR_materials_transmission", "KHR_materials_volume"};
+    const GltfModel model = loadGltfModel(g.save(dir, "thick"));
+    const GltfTransmission& t = model.materials[0].transmission;
+    EXPECT_FLOAT_EQ(t.thickness, 0.5f);
+    ASSERT_GE(t.thicknessTexture, 0);
+    EXPECT_FALSE(model.textures[size_t(t.thicknessTexture)].srgb) << "thickness is data, not colour";
+    EXPECT_NEAR(volumeThickness(t, model.textures), 0.5f * 0.6f, 1e-4f);
+
+    // Without a texture (or with one the model does not hold) the factor alone.
+    GltfTransmission plain = t;
+    plain.thicknessTexture = -1;
+    EXPECT_EQ(volumeThickness(plain, model.textures), 0.5f);
+    plain.thicknessTexture = 9;
+    EXPECT_EQ(volumeThickness(plain, model.textures), 0.5f);
+}
+
 TEST(GltfTransmission, IorZeroIsTheSpecialValue)
 {
     ScratchDir dir;
@@ -100,6 +129,13 @@ TEST(GltfTransmission, BadValuesNameTheFileAndTheMaterial)
          "material 1 KHR_materials_volume attenuationColor"},
         {"colour_short", R"({"extensions":{"KHR_materials_volume":{"attenuationColor":[1,1]}}})",
          "material 1 KHR_materials_volume attenuationColor"},
+        {"thickness_texture_bad", R"({"extensions":{"KHR_materials_volume":{"thicknessTexture":{"index":7}}}})",
+         "material 1 KHR_materials_volume thicknessTexture: texture 7 does not exist"},
+        {"thickness_texture_not_info", R"({"extensions":{"KHR_materials_volume":{"thicknessTexture":3}}})",
+         "material 1 KHR_materials_volume thicknessTexture: expected a textureInfo object"},
+        {"thickness_texture_texcoord",
+         R"({"extensions":{"KHR_materials_volume":{"thicknessTexture":{"index":0,"texCoord":-1}}}})",
+         "material 1 KHR_materials_volume thicknessTexture texCoord: expected a non-negative integer"},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.name);
@@ -116,8 +152,13 @@ TEST(GltfTransmission, TheGlassPresetLetsLightThroughAndOthersDoNot)
     EXPECT_FLOAT_EQ(glass.ior, 1.5f);
     EXPECT_GT(glass.thickness, 0.0f) << "solid: the view bends at its surface";
     EXPECT_EQ(glass.tint, glm::vec3(1.0f)) << "clear";
+    const GltfTransmission pane = materialPresetTransmission("thin_glass");
+    EXPECT_EQ(pane.factor, 1.0f);
+    EXPECT_FLOAT_EQ(pane.ior, 1.5f);
+    EXPECT_EQ(pane.thickness, 0.0f) << "thin-walled: the view passes straight through";
+    EXPECT_EQ(pane.tint, glm::vec3(1.0f)) << "clear";
     for (const std::string_view name : materialPresetNames()) {
-        if (name != "glass") {
+        if (name != "glass" && name != "thin_glass") {
             EXPECT_EQ(materialPresetTransmission(name).factor, 0.0f) << name;
         }
     }
