@@ -126,6 +126,7 @@ layout(location = 1) out vec4 fragRadiance;
 #include "rgbm.glsl"
 #include "camera_response.glsl"
 #include "shadow.glsl"
+#include "normal_map_transform.glsl"
 
 // glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
 const float kMaxExponent = 4096.0;
@@ -249,7 +250,8 @@ void main()
     vec3 b = cross(n, t) * handedness;
     if (HAS_NORMAL_MAP && hasTangent) {
         vec3 tangentNormal = texture(uNormal, slotUv(2)).xyz * 2.0 - 1.0;
-        tangentNormal.xy *= emissiveNormalScale.w;
+        tangentNormal.xy =
+            emissiveNormalScale.w * normalMapXyInTangentFrame(tangentNormal.xy, uvTransforms[4], uvTransforms[5]);
         n = normalize(mat3(t, b, n) * tangentNormal);
         t = normalize(t - n * dot(n, t));
     }

@@ -311,9 +311,11 @@ void readMaps(TableReader& root, std::vector<MapConfig>& maps, const std::vector
 }
 
 // [[objects]] animation = "name" | index | "all" | "none", loop, speed. Names are checked
-// against the model when it is loaded (app/object_animation.h).
+// against the model when it is loaded (app/object_animation.h) and by check-config.
 void readObjectAnimation(TableReader& r, ObjectConfig& object)
 {
+    if (const toml::node* node = r.node("animation"))
+        object.animationLine = int(node->source().begin.line);
     if (const toml::node* node = r.node("animation"); node && node->is_integer()) {
         r.integer("animation", object.animationIndex, 0, 1 << 20);
     } else {

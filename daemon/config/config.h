@@ -148,6 +148,8 @@ struct ObjectConfig {
     // animationIndex >= 0, that index. Checked against the model when it is loaded.
     std::string animation;
     int animationIndex = -1;
+    // The line of `animation` in the file, for check-config's message (0: not given).
+    int animationLine = 0;
     bool loop = true;   // false: the clip holds its last pose once played
     double speed = 1.0; // clip seconds per scene second, >= 0 (0: the clip's first pose)
 };

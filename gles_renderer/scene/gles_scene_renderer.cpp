@@ -304,9 +304,12 @@ private:
             lens_->beginVirtual();
         if (profile_)
             meshes_.onTransparentStart([&] { timer.split(stats_.shading); });
+        if (lens_)
+            meshes_.onBlending([&](bool blending) { lens_->blendingVirtual(blending); });
         meshes_.draw(frame_, models_, items, maps, -1,
                      shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
         meshes_.onTransparentStart(nullptr);
+        meshes_.onBlending(nullptr);
         if (lens_) {
             lens_->endVirtual();
             if (profile_)

@@ -208,6 +208,15 @@ void LensEffects::endVirtual() const
     glDrawBuffers(2, first);
 }
 
+void LensEffects::blendingVirtual(bool blending) const
+{
+    if (!radianceRgbm_)
+        return;
+    const GLenum first[] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, blending ? first : both);
+}
+
 void LensEffects::drawInto(const Level& level) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, level.framebuffer.name());

@@ -41,6 +41,13 @@ public:
     // the radiance image and lets fragment output 1 write to it, endVirtual() stops that.
     void beginVirtual() const;
     void endVirtual() const;
+    // Between beginVirtual() and endVirtual(), around BLEND primitives blended into the frame
+    // (MeshPass::onBlending). A float radiance image is blended like the frame (alpha is the
+    // coverage). An RGBM one cannot be: its alpha is the encoding's scale, and blending would
+    // weigh the colours by the scale and keep the one behind, so it is left out while
+    // `blending`: what lies behind a BLEND surface keeps its light, and the surface adds none
+    // to the bloom and glare (on float images it adds its share and dims what is behind).
+    void blendingVirtual(bool blending) const;
     // The window-space pixels the effects can change this frame: the virtual objects' (not
     // the phantoms') projected bounds grown by the bloom's and the streaks' reach. Empty
     // without virtual objects.

@@ -228,12 +228,17 @@ void MeshPass::drawBlended(std::span<const DrawItem> items, std::span<const IblM
             else
                 glDisable(GL_BLEND);
             blending = blend;
+            if (blendingHook_)
+                blendingHook_(blend);
         }
         state.bindMaps(maps[b.item]);
         drawPrimitive(items[b.item], model, *b.primitive, state, -1, -1, true);
     }
-    if (blending)
+    if (blending) {
         glDisable(GL_BLEND);
+        if (blendingHook_)
+            blendingHook_(false);
+    }
     if (canBlend)
         glDepthMask(GL_TRUE);
 }

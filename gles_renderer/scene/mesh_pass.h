@@ -73,6 +73,9 @@ public:
     // Called by every draw() once the opaque items are drawn, before the blended and
     // transmissive ones (the renderer's `transparent` stage starts there); empty: nothing.
     void onTransparentStart(std::function<void()> hook) { transparentStart_ = std::move(hook); }
+    // Called with true before BLEND primitives are blended into the target and with false
+    // after (the lens effects' RGBM radiance image is left out of blending: lens_effects.h).
+    void onBlending(std::function<void(bool)> hook) { blendingHook_ = std::move(hook); }
 
     // How many pixels the longest side of `item`'s model spans, seen at its bounding-box
     // centre's distance with focal length `focalPixels`; infinite where the camera is inside
@@ -142,6 +145,7 @@ private:
     GlBuffer frameUniforms_;
     GLuint shadowMap_ = 0;
     std::function<void()> transparentStart_;
+    std::function<void(bool)> blendingHook_;
 };
 
 } // namespace lumar

@@ -7,8 +7,10 @@
 // and so does the distance it reaches; in both image formats (RGBA16F and RGBM).
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -122,6 +124,75 @@ TEST(EmissionBloom, StrongerEmissiveStrengthBloomsMoreAndFurther)
             EXPECT_GE(blooms[i].reach, blooms[i - 1].reach - 2);
         }
         EXPECT_GE(blooms[4].reach, blooms[1].reach + 5); // 16 x reaches 5 px or more further than 2 x
+    }
+}
+
+// A BLEND surface before a bright emitter, with the lens effects on. Float images blend the
+// radiance like the frame (the red surface adds its light to the bloom). RGBM images cannot
+// (alpha is the encoding's scale), so the radiance is left out while BLEND primitives are
+// blended (LensEffects::blendingVirtual): the emitter's bloom around it stays as it is without
+// the surface, where blending the encoding weighed the colours by the scale (the white bloom
+// turned red: a quarter of its green left here).
+TEST(EmissionBloom, BlendSurfaceKeepsTheRgbmRadianceBehindIt)
+{
+    constexpr int w = 160, h = 120;
+    const CameraIntrinsics k = test::makeIntrinsics(w, h, 200.0, 200.0, w / 2.0, h / 2.0);
+    const GltfModel emitter = test::cameraFacingRectangle(-0.1f, -0.1f, 0.1f, 0.1f, test::emissiveMaterial({8, 8, 8}));
+    GltfMaterial red = test::emissiveMaterial({12, 0, 0});
+    red.baseColorFactor.a = 0.5f;
+    red.alphaMode = GltfAlphaMode::Blend;
+    // Nearer, covering the emitter's pixels exactly (0.075 m at 1.5 m is 0.1 m at 2 m).
+    const GltfModel surface = test::cameraFacingRectangle(-0.075f, -0.075f, 0.075f, 0.075f, red);
+    const Image8 grey = test::solidImage(w, h, 40, 40, 40);
+    for (const bool rgbm : {false, true}) {
+        SCOPED_TRACE(rgbm ? "rgbm" : "float");
+        const auto render = [&](bool withSurface) {
+            RenderOptions options;
+            options.environmentMaps.ibl.forceRgbm = rgbm;
+            options.lens.enabled = true;
+            options.lens.images = rgbm ? LensImageFormat::Rgbm : LensImageFormat::Float;
+            options.lens.threshold = 1.0f;
+            options.lens.bloomIntensity = 0.5f;
+            options.lens.bloomRadius = 16.0f;
+            options.lens.glare = false;
+            auto made = test::tryCreateRenderer(w, h, options);
+            Image8 out;
+            if (!made.renderer)
+                return out;
+            made.renderer->setEnvironment(test::uniformEnvironment(0.0f), 1.0f);
+            std::vector<DrawItem> items{{made.renderer->addModel(emitter), test::translation(0, 0, 2)}};
+            if (withSurface)
+                items.push_back({made.renderer->addModel(surface), test::translation(0, 0, 1.5)});
+            made.renderer->render(grey, k, items);
+            made.renderer->readback(out);
+            return out;
+        };
+        const Image8 bare = render(false);
+        if (bare.width == 0)
+            GTEST_SKIP() << "no GLES 3 renderer";
+        const Image8 covered = render(true);
+        // The bloom's ring beyond the emitter's pixels (x in [70, 90), y in [50, 70), 3 px more).
+        glm::dvec3 bareRing(0.0), coveredRing(0.0);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (x >= 67 && x < 93 && y >= 47 && y < 73)
+                    continue;
+                for (int c = 0; c < 3; ++c) {
+                    bareRing[c] += std::max(0, int(bare.at(x, y)[c]) - 40);
+                    coveredRing[c] += std::max(0, int(covered.at(x, y)[c]) - 40);
+                }
+            }
+        std::printf("%s: ring gain without the surface (%.0f, %.0f, %.0f), with it (%.0f, %.0f, %.0f)\n",
+                    rgbm ? "rgbm" : "float", bareRing.r, bareRing.g, bareRing.b, coveredRing.r, coveredRing.g,
+                    coveredRing.b);
+        ASSERT_GT(bareRing.g, 1000.0) << "the emitter blooms";
+        if (rgbm) {
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(coveredRing[c], bareRing[c], 0.05 * bareRing[c]) << "channel " << c;
+        } else {
+            EXPECT_GT(coveredRing.r, 1.1 * bareRing.r) << "the red surface's light blooms";
+            EXPECT_LT(coveredRing.g, 0.8 * bareRing.g) << "and dims the emitter's";
+        }
     }
 }
 

@@ -1,8 +1,10 @@
 // Shading numerics of the paper's model (mesh.frag with the real environment's maps) against
 // formulas evaluated on the CPU: a plane facing the camera at its principal point (n.v = 1
 // unless normal-mapped), read back at that pixel, within +-2 code values.
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -217,6 +219,92 @@ TEST(Shading, NormalMapTurnsTheShadingNormal)
     expectColour(planeColour(renderer, model),
                  roughWhiteRadiance(sky, environmentFromCamera * mirroredNormal,
                                     environmentFromCamera * mirror(mirroredNormal), glm::dot(mirroredNormal, view)));
+}
+
+// A normal map with a KHR_texture_transform: its texels' x and y axes are where the
+// transformed uv' grows on the surface (x: +u', y: -v', glTF's convention), found here by the
+// chain rule from uv' = A uv (T = dP/du, B = -dP/dv): dP/du' and dP/dv' are the columns of
+// (T, -B) A^-1, made unit length.
+TEST(Shading, NormalMapTextureTransformTurnsTheTangentFrame)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    const ImageF sky = equirectOf(256, 128, lobedSky);
+    renderer.setEnvironment(sky, 1.0f);
+    const glm::dmat3 environmentFromCamera(glm::rotate(glm::dmat4(1.0), glm::radians(-60.0), glm::dvec3(1, 0, 0)));
+    renderer.setEnvironmentRotation(environmentFromCamera);
+
+    const uint8_t texel[3] = {200, 90, 220};
+    GltfModel model = plane(surface(0.0f, 1.0f));
+    GltfTexture normalMap{Image8(4, 4, 4), false};
+    for (size_t i = 0; i < normalMap.image.data.size(); i += 4) {
+        std::copy(texel, texel + 3, normalMap.image.data.begin() + long(i));
+        normalMap.image.data[i + 3] = 255;
+    }
+    model.textures.push_back(normalMap);
+    model.materials[0].normalTexture = 0;
+    const glm::dvec3 tangentNormal = glm::dvec3(texel[0], texel[1], texel[2]) / 255.0 * 2.0 - 1.0;
+    const glm::dvec3 t(1, 0, 0), b(0, -1, 0), n(0, 0, -1);
+    const glm::dvec3 view(0, 0, -1);
+    const auto mirror = [&](const glm::dvec3& normal) { return 2.0 * glm::dot(view, normal) * normal - view; };
+    for (const auto& [degrees, scale] : {std::pair{90.0f, glm::vec2(1.0f)},
+                                         {30.0f, glm::vec2(2.0f)},
+                                         {-135.0f, glm::vec2(1.0f)},
+                                         {90.0f, glm::vec2(-1.0f, 1.0f)}}) {
+        SCOPED_TRACE(testing::Message() << "rotation " << degrees << " deg, scale (" << scale.x << ", " << scale.y
+                                        << ")");
+        GltfUvTransform& transform = model.materials[0].uvTransforms[size_t(GltfTextureSlot::Normal)];
+        transform.rotation = glm::radians(degrees);
+        transform.scale = scale;
+        const std::array<glm::vec3, 2> rows = transform.rows();
+        const glm::dmat2 a(rows[0].x, rows[1].x, rows[0].y, rows[1].y); // columns
+        const glm::dmat2 inverse = glm::inverse(a);
+        const glm::dvec3 alongU = glm::normalize(t * inverse[0][0] - b * inverse[0][1]);  // dP/du'
+        const glm::dvec3 alongV = -glm::normalize(t * inverse[1][0] - b * inverse[1][1]); // -dP/dv'
+        const glm::dvec3 shadingNormal =
+            glm::normalize(alongU * tangentNormal.x + alongV * tangentNormal.y + n * tangentNormal.z);
+        expectColour(planeColour(renderer, model),
+                     roughWhiteRadiance(sky, environmentFromCamera * shadingNormal,
+                                        environmentFromCamera * mirror(shadingNormal), glm::dot(shadingNormal, view)));
+    }
+}
+
+// A ridge in a normal map (its left half tilted to the image's left, its right half to the
+// right), turned 90 degrees by KHR_texture_transform, runs across the plane: under a sky
+// bright above (the camera's -y), the ridge's upper half faces the light and is brighter.
+// Read without turning the tangent frame, both halves would lean sideways and match.
+TEST(Shading, RotatedNormalMapRidgeIsLitOnTheSideFacingTheLight)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    renderer.setEnvironment(equirectOf(256, 128, [](const glm::dvec3& d) { return glm::dvec3(0.3 - 0.25 * d.y); }),
+                            1.0f);
+    renderer.setEnvironmentRotation(glm::dmat3(1.0));
+    GltfModel model = plane(surface(0.0f, 1.0f));
+    GltfTexture ridge{Image8(4, 4, 4), false};
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            uint8_t* p = ridge.image.at(x, y);
+            p[0] = x < 2 ? 51 : 204; // tangent x = -0.6 | +0.6
+            p[1] = 128;
+            p[2] = 230; // z = 0.8
+            p[3] = 255;
+        }
+    model.textures.push_back(ridge);
+    model.materials[0].normalTexture = 0;
+    model.materials[0].uvTransforms[size_t(GltfTextureSlot::Normal)].rotation = glm::radians(90.0f);
+    // uv' = (v, -u): the plane's upper half (v = 1/4) reads u' = 1/4, the ridge's left half.
+    renderer.removeModels();
+    const DrawItem item{renderer.addModel(model), test::translation(0, 0, 1)};
+    Image8 out;
+    renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), {&item, 1});
+    renderer.readback(out);
+    const auto luma = [&](int x, int y) {
+        const uint8_t* p = out.at(x, y);
+        return int(p[0]) + int(p[1]) + int(p[2]);
+    };
+    const int upper = luma(kPx, kPy - 8), lower = luma(kPx, kPy + 8);
+    EXPECT_GT(upper, lower + 3 * 20) << "the ridge's upper half faces the bright sky above";
+    // Along the ridge the two sides of the plane are alike.
+    EXPECT_NEAR(luma(kPx - 8, kPy - 8), luma(kPx + 8, kPy - 8), 3 * 3);
 }
 
 // A smooth metal plane facing the camera mirrors the view ray straight back: at the principal

@@ -73,6 +73,36 @@ TEST(Cli, CheckConfigReportsFileAndLine)
     EXPECT_EQ(lineCount(r.err), 1u) << r.err;
 }
 
+// An [[objects]] animation the model does not have is named with its file, line and key, as
+// the daemon's load would refuse it; an animation the model has passes.
+TEST(Cli, CheckConfigNamesAnUnknownAnimation)
+{
+    const auto dir = test::scratchDirectory("check-animation");
+    const std::string skin = kSource + "/tests/data/khronos/SimpleSkin/SimpleSkin.gltf";
+    const auto check = [&](const std::string& animation) {
+        const auto file = dir / "animated.toml";
+        std::ofstream(file) << "[[markers]]\nid = 0\nsize = 0.16\n"
+                               "[[objects]]\nmodel = \"" +
+                                   kBox +
+                                   "\"\nmarker = 0\n"
+                                   "[[objects]]\nmodel = \"" +
+                                   skin + "\"\nmarker = 0\nsize = 0.1\nanimation = " + animation + "\n";
+        return runLumar({"check-config", file.string()}, dir);
+    };
+    for (const std::string bad : {"\"Wave\"", "3"}) {
+        SCOPED_TRACE(bad);
+        const auto r = check(bad);
+        EXPECT_EQ(r.exitCode, 2);
+        EXPECT_EQ(r.err.rfind((dir / "animated.toml").string() + ":11: objects[1].animation: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find("SimpleSkin.gltf"), std::string::npos) << r.err;
+        EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    }
+    for (const std::string good : {"0", "\"all\"", "\"none\""}) {
+        const auto r = check(good);
+        EXPECT_EQ(r.exitCode, 0) << good << ": " << r.err;
+    }
+}
+
 struct BadInputCase {
     const char* name;
     std::string mentions; // what the one-line error must name
