@@ -272,6 +272,20 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
     double lagSum = 0.0, lagMsSum = 0.0;
     int lagCount = 0;
     double seconds = 0.0, cpuSeconds = 0.0;
+    // Corner jitter: the RMS over the still frames' corners of their distance from the mean of
+    // the same corner of the same tag in the same still stretch (the camera may move between).
+    double jitterSquares = 0.0;
+    int jitterCount = 0;
+    const auto flushJitter = [&](TagState& state) {
+        for (std::vector<glm::dvec3>& corner : state.stillCorners) {
+            if (corner.size() >= 2) {
+                const double sd = standardDeviation(corner);
+                jitterSquares += sd * sd * double(corner.size() - 1);
+                jitterCount += int(corner.size() - 1);
+            }
+            corner.clear();
+        }
+    };
     FrameResult result;
     for (int f = 0; f < row.frames; ++f) {
         const BenchFrame& frame = r.frames[size_t(f)];
@@ -280,6 +294,9 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
         cpuSeconds += processCpuSeconds() - cpu0;
         seconds += wallSeconds() - wall0;
         const FrameMatch match = matchDetections(frame.tags, result.detections);
+        if (!r.still[size_t(f)])
+            for (TagState& state : states)
+                flushJitter(state);
         for (size_t t = 0; t < frame.tags.size(); ++t) {
             const BenchTagTruth& truth = frame.tags[t];
             TagState& state = states[t];
@@ -333,20 +350,10 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
             }
         }
     }
-    // Corner jitter: the RMS over the still frames' corners of their distance from the mean of
-    // the same corner of the same tag.
-    double jitterSquares = 0.0;
-    int jitterCount = 0;
-    for (const TagState& state : states) {
+    for (TagState& state : states) {
         if (state.pending)
             delays.push_back(state.since);
-        for (const std::vector<glm::dvec3>& corner : state.stillCorners) {
-            if (corner.size() < 2)
-                continue;
-            const double sd = standardDeviation(corner);
-            jitterSquares += sd * sd * double(corner.size() - 1);
-            jitterCount += int(corner.size() - 1);
-        }
+        flushJitter(state);
     }
     row.recall = row.visibleTags > 0 ? double(row.found) / row.visibleTags : kNaN;
     row.reacquireMeanFrames = kNaN;
