@@ -1,38 +1,27 @@
 #include "bench/tracking_bench.h"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
 
-#include <apriltag/apriltag.h>
 #include <opencv2/core.hpp>
 #ifdef LUMAR_HAVE_ARUCO
 #include <opencv2/aruco.hpp>
 #endif
 
 #include "bench/tracking_bench_scene.h"
+#include "bench/tracking_scoring.h"
 #include "core/error.h"
 #include "core/json_output.h"
-#include "tracking/apriltag_family.h"
 #include "tracking/tag_tracker.h"
 
 namespace lumar {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxFramesPerCondition = 10000;
-
-struct Found {
-    int id = -1;
-    std::array<glm::dvec2, 4> corners{}; // OpenCV pixel convention, AprilTag order
-    bool hasPose = false;
-    Pose cameraFromMarker;
-};
 
 TagSizes sizesOf(const BenchCondition& condition)
 {
@@ -48,17 +37,8 @@ public:
     virtual ~Detector() = default;
     [[nodiscard]] virtual const char* name() const = 0;
     virtual void restart(const BenchCondition& condition) = 0;
-    virtual std::vector<Found> detect(const Image8& luma) = 0;
+    virtual std::vector<TagDetection> detect(const Image8& luma) = 0;
 };
-
-// Pose of a detection from a library without one, with lumar's IPPE solver and no history,
-// so that pose errors differ only by the corners the detectors found.
-void solvePose(Found& f, const TagSizes& sizes, const CameraIntrinsics& k)
-{
-    const double size = sizes.of(f.id);
-    double rms = 0.0;
-    f.hasPose = size > 0.0 && solveTagPose(f.corners, size, k, f.cameraFromMarker, rms);
-}
 
 class LumarDetector final : public Detector {
 public:
@@ -70,13 +50,7 @@ public:
         config.threads = 1;    // as the AprilTag defaults (and the library's limit on Debian 12)
         tracker_ = std::make_unique<TagTracker>(config, k_, sizesOf(condition));
     }
-    std::vector<Found> detect(const Image8& luma) override
-    {
-        std::vector<Found> result;
-        for (const TagDetection& d : tracker_->detect(luma))
-            result.push_back({d.id, d.corners, d.hasPose, d.cameraFromMarker});
-        return result;
-    }
+    std::vector<TagDetection> detect(const Image8& luma) override { return tracker_->detect(luma); }
 
 private:
     CameraIntrinsics k_;
@@ -85,46 +59,15 @@ private:
 
 class AprilTagDefaultsDetector final : public Detector {
 public:
-    explicit AprilTagDefaultsDetector(const CameraIntrinsics& k)
-        : k_(k), family_(createAprilTagFamily("tag36h11")), detector_(apriltag_detector_create())
-    {
-        if (!detector_)
-            throw RuntimeError("cannot create the AprilTag detector");
-        apriltag_detector_add_family(detector_.get(), family_.get()); // the default 2 correctable bits
-    }
+    explicit AprilTagDefaultsDetector(const CameraIntrinsics& k) : k_(k) {}
     [[nodiscard]] const char* name() const override { return "apriltag"; }
     void restart(const BenchCondition& condition) override { sizes_ = sizesOf(condition); }
-    std::vector<Found> detect(const Image8& luma) override
-    {
-        image_u8_t image{luma.width, luma.height, luma.width, const_cast<uint8_t*>(luma.data.data())};
-        zarray_t* detections = apriltag_detector_detect(detector_.get(), &image);
-        if (!detections)
-            throw RuntimeError("AprilTag detection failed");
-        std::vector<Found> result;
-        for (int i = 0; i < zarray_size(detections); ++i) {
-            apriltag_detection_t* det = nullptr;
-            zarray_get(detections, i, &det);
-            Found f;
-            f.id = det->id;
-            // The same half-pixel shift lumar's tracker applies (DESIGN.md §5), so that both are
-            // scored in OpenCV's pixel convention.
-            for (size_t c = 0; c < 4; ++c)
-                f.corners[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
-            solvePose(f, sizes_, k_);
-            result.push_back(f);
-        }
-        apriltag_detections_destroy(detections);
-        return result;
-    }
-    [[nodiscard]] const apriltag_detector_t& settings() const { return *detector_; }
+    std::vector<TagDetection> detect(const Image8& luma) override { return library_.detect(luma, sizes_, k_); }
+    [[nodiscard]] std::string settings() const { return library_.settings(); }
 
 private:
-    struct DetectorDeleter {
-        void operator()(apriltag_detector_t* d) const { apriltag_detector_destroy(d); }
-    };
     CameraIntrinsics k_;
-    AprilTagFamilyPtr family_; // outlives the detector, which borrows it
-    std::unique_ptr<apriltag_detector_t, DetectorDeleter> detector_;
+    AprilTagDefaults library_;
     TagSizes sizes_;
 };
 
@@ -138,22 +81,23 @@ public:
     }
     [[nodiscard]] const char* name() const override { return "opencv_aruco"; }
     void restart(const BenchCondition& condition) override { sizes_ = sizesOf(condition); }
-    std::vector<Found> detect(const Image8& luma) override
+    std::vector<TagDetection> detect(const Image8& luma) override
     {
         const cv::Mat image(luma.height, luma.width, CV_8UC1, const_cast<uint8_t*>(luma.data.data()));
         std::vector<std::vector<cv::Point2f>> corners;
         std::vector<int> ids;
         cv::aruco::detectMarkers(image, dictionary_, corners, ids, parameters_);
-        std::vector<Found> result;
+        std::vector<TagDetection> result;
         for (size_t i = 0; i < ids.size(); ++i) {
-            Found f;
+            TagDetection f;
             f.id = ids[i];
             // Both orders run the same way round the image; OpenCV's DICT_APRILTAG_36h11 codes
             // are the library's turned by 180 degrees, so ArUco's first corner is AprilTag's third.
             constexpr std::array<size_t, 4> kFromAruco{1, 0, 3, 2};
             for (size_t c = 0; c < 4; ++c)
                 f.corners[c] = {corners[i][kFromAruco[c]].x, corners[i][kFromAruco[c]].y};
-            solvePose(f, sizes_, k_);
+            const double size = sizes_.of(f.id);
+            f.hasPose = size > 0.0 && solveTagPose(f.corners, size, k_, f.cameraFromMarker, f.reprojectionErrorPx);
             result.push_back(f);
         }
         return result;
@@ -166,20 +110,6 @@ private:
     TagSizes sizes_;
 };
 #endif
-
-double rotationErrorDeg(const glm::dmat3& a, const glm::dmat3& b)
-{
-    const glm::dmat3 d = glm::transpose(a) * b;
-    const double c = std::clamp((d[0][0] + d[1][1] + d[2][2] - 1.0) / 2.0, -1.0, 1.0);
-    // acos loses precision near 0: the antisymmetric part's norm keeps small angles exact.
-    const double s = 0.5 * glm::length(glm::dvec3(d[1][2] - d[2][1], d[2][0] - d[0][2], d[0][1] - d[1][0]));
-    return std::atan2(s, c) * 180.0 / kPi;
-}
-
-glm::dvec2 centreOf(const std::array<glm::dvec2, 4>& corners)
-{
-    return 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
-}
 
 struct Tally {
     int frames = 0, visible = 0, found = 0, falsePositives = 0;
@@ -199,26 +129,20 @@ struct Tally {
     }
 };
 
-void score(const std::vector<BenchTagTruth>& truths, const std::vector<Found>& found, Tally& t)
+void score(const std::vector<BenchTagTruth>& truths, const std::vector<TagDetection>& found, Tally& t)
 {
     ++t.frames;
-    std::vector<bool> matched(truths.size(), false);
-    for (const BenchTagTruth& truth : truths)
-        t.visible += truth.visible ? 1 : 0;
-    for (const Found& f : found) {
-        size_t index = truths.size();
-        for (size_t i = 0; i < truths.size(); ++i)
-            if (truths[i].id == f.id &&
-                glm::length(centreOf(truths[i].corners) - centreOf(f.corners)) <= kMatchRadiusPx)
-                index = i;
-        if (index == truths.size() || matched[index]) {
-            ++t.falsePositives; // a wrong id, a wrong place, or a second detection of one tag
-            continue;
-        }
-        matched[index] = true;
-        const BenchTagTruth& truth = truths[index];
+    const FrameMatch match = matchDetections(truths, found);
+    t.falsePositives += match.falsePositives;
+    for (size_t i = 0; i < truths.size(); ++i) {
+        const BenchTagTruth& truth = truths[i];
+        // A tag cut by the image's edge found: right, but not counted in recall.
         if (!truth.visible)
-            continue; // a tag cut by the image's edge: right, but not counted in recall
+            continue;
+        ++t.visible;
+        if (match.detectionOf[i] < 0)
+            continue;
+        const TagDetection& f = found[size_t(match.detectionOf[i])];
         ++t.found;
         for (size_t c = 0; c < 4; ++c)
             t.corner.push_back(glm::length(f.corners[c] - truth.corners[c]));
@@ -228,24 +152,6 @@ void score(const std::vector<BenchTagTruth>& truths, const std::vector<Found>& f
                                     glm::length(truth.cameraFromMarker.t));
         }
     }
-}
-
-double mean(const std::vector<double>& v)
-{
-    if (v.empty())
-        return kNaN;
-    double sum = 0.0;
-    for (double x : v)
-        sum += x;
-    return sum / double(v.size());
-}
-
-double percentile95(std::vector<double> v)
-{
-    if (v.empty())
-        return kNaN;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(0.95 * double(v.size() - 1) + 0.5))];
 }
 
 TrackingBenchRow makeRow(const std::string& condition, const std::string& detector, const Tally& t)
@@ -269,15 +175,6 @@ TrackingBenchRow makeRow(const std::string& condition, const std::string& detect
     return r;
 }
 
-std::string fixed(double v, int decimals)
-{
-    if (!std::isfinite(v))
-        return "–";
-    char text[64];
-    const auto end = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed, decimals).ptr;
-    return std::string(text, end);
-}
-
 } // namespace
 
 TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
@@ -289,20 +186,17 @@ TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
     const CameraIntrinsics& k = scene.intrinsics();
 
     auto aprilTag = std::make_unique<AprilTagDefaultsDetector>(k);
-    const apriltag_detector_t& defaults = aprilTag->settings();
     TrackingBenchReport report;
     report.options = options;
     report.notes.push_back(std::to_string(options.width) + "x" + std::to_string(options.height) + ", fx " +
                            fixed(k.fx, 1) + " px (70 deg horizontal field of view), " +
                            std::to_string(options.framesPerCondition) + " frames per condition, seed " +
                            std::to_string(options.seed) + "; tags rendered at 4x4 samples per pixel.");
-    report.notes.push_back(
-        "apriltag: libapriltag " LUMAR_APRILTAG_VERSION " with apriltag_detector_create()'s defaults (quad_decimate " +
-        fixed(defaults.quad_decimate, 1) + ", quad_sigma " + fixed(defaults.quad_sigma, 1) + ", refine_edges " +
-        std::to_string(int(defaults.refine_edges)) + ", decode_sharpening " + fixed(defaults.decode_sharpening, 2) +
-        ", nthreads " + std::to_string(defaults.nthreads) +
-        ", 2 correctable bits); its corners are shifted by -0.5 px into OpenCV's pixel convention, as lumar's tracker "
-        "does; pose from lumar's IPPE solver (solveTagPose) without history.");
+    report.notes.push_back("apriltag: libapriltag " LUMAR_APRILTAG_VERSION
+                           " with apriltag_detector_create()'s defaults (" +
+                           aprilTag->settings() +
+                           "); its corners are shifted by -0.5 px into OpenCV's pixel convention, as lumar's tracker "
+                           "does; pose from lumar's IPPE solver (solveTagPose) without history.");
     report.notes.push_back("lumar: TagTracker with lumar.toml's [tracking] defaults (quad_decimate 2, ROI search "
                            "around the last detections, a full-frame search at least every 10 frames, restarted per "
                            "condition), 1 thread (libapriltag before 3.4.3 crashes with nthreads > 1); its own pose "
@@ -342,7 +236,7 @@ TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
                 cv::setNumThreads(1);
                 for (size_t d = 0; d < detectors.size(); ++d) {
                     const auto start = std::chrono::steady_clock::now();
-                    const std::vector<Found> found = detectors[d]->detect(frame.luma);
+                    const std::vector<TagDetection> found = detectors[d]->detect(frame.luma);
                     tallies[d].ms +=
                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
                     score(frame.tags, found, tallies[d]);
@@ -367,17 +261,15 @@ TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options)
 
 std::string trackingBenchMarkdown(const TrackingBenchReport& report)
 {
-    std::string out = "| condition | detector | frames | tags | recall | FP/frame | corner mean px | corner p95 px | "
-                      "rot mean deg | rot p95 deg | trans mean % | trans p95 % | ms/frame |\n"
-                      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const TrackingBenchRow& r : report.rows) {
-        out += "| " + r.condition + " | " + r.detector + " | " + std::to_string(r.frames) + " | " +
-               std::to_string(r.visibleTags) + " | " + fixed(r.recall, 3) + " | " + fixed(r.falsePositivesPerFrame, 3) +
-               " | " + fixed(r.cornerMeanPx, 3) + " | " + fixed(r.cornerP95Px, 3) + " | " +
-               fixed(r.rotationMeanDeg, 2) + " | " + fixed(r.rotationP95Deg, 2) + " | " +
-               fixed(r.translationMeanPercent, 2) + " | " + fixed(r.translationP95Percent, 2) + " | " +
-               fixed(r.msPerFrame, 2) + " |\n";
-    }
+    MarkdownTable table({"condition", "detector", "frames", "tags", "recall", "FP/frame", "corner mean px",
+                         "corner p95 px", "rot mean deg", "rot p95 deg", "trans mean %", "trans p95 %", "ms/frame"},
+                        2);
+    for (const TrackingBenchRow& r : report.rows)
+        table.add({r.condition, r.detector, std::to_string(r.frames), std::to_string(r.visibleTags), fixed(r.recall, 3),
+                   fixed(r.falsePositivesPerFrame, 3), fixed(r.cornerMeanPx, 3), fixed(r.cornerP95Px, 3),
+                   fixed(r.rotationMeanDeg, 2), fixed(r.rotationP95Deg, 2), fixed(r.translationMeanPercent, 2),
+                   fixed(r.translationP95Percent, 2), fixed(r.msPerFrame, 2)});
+    std::string out = table.str();
     out += "\nTime per frame, lumar / apriltag defaults (overall): " + fixed(report.lumarOverAprilTagTime, 3) +
            " (target <= 0.5 with recall and corner error no worse)\n\n";
     for (const std::string& note : report.notes)

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/tracking_scoring.h"
+
 namespace lumar {
 
 struct TrackingBenchOptions {
@@ -43,9 +45,6 @@ struct TrackingBenchReport {
     double lumarOverAprilTagTime = 0.0;
     std::vector<std::string> notes; // how the detectors were set up, what was skipped
 };
-
-// A detection within this distance (centre to centre) of the true tag with its id is found.
-inline constexpr double kMatchRadiusPx = 10.0;
 
 // Throws InputError for bad options (size, frames per condition outside [1, 10000]).
 TrackingBenchReport runTrackingBench(const TrackingBenchOptions& options);

@@ -4,8 +4,10 @@
 // Exit codes as lumar's: 0 success, 1 runtime failure, 2 bad usage or bad input.
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -75,6 +77,21 @@ int main(int argc, char** argv)
     app.add_option("--rounds", rounds, "with --sequences: interleaved rounds (ms: median)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    std::vector<std::string> lumarVariants;
+    app.add_option("--lumar", lumarVariants,
+                   "with --sequences: a configuration of lumar's tracker to run, NAME or NAME:key=value,...\n"
+                   "with [tracking] keys of lumar.toml (threads 1 unless given); repeatable; default:\n"
+                   "'lumar' (defaults, threads 1) and 'lumar_2threads' (threads 2)");
+    const char* dataEnv = std::getenv("LUMAR_DATA_DIR");
+    std::string dataDir = dataEnv && *dataEnv ? dataEnv : LUMAR_SHARED_DATA_DIR;
+    app.add_option("--data", dataDir,
+                   "with --sequences: the shared data folder with apriltag/real/ (the library's test photos,\n"
+                   "run as still sequences; skipped when absent); default: $LUMAR_DATA_DIR or the build's")
+        ->capture_default_str();
+    int photoFrames = 20;
+    app.add_option("--photo-frames", photoFrames, "with --sequences: frames per photo sequence")
+        ->check(CLI::Range(2, 1000))
+        ->capture_default_str();
     app.add_option("--log-level", logLevel, "e.g. info, or tracking:debug,*:warn")->capture_default_str();
     try {
         app.parse(argc, argv);
@@ -104,6 +121,10 @@ int main(int argc, char** argv)
             sequenceOptions.height = options.height;
             sequenceOptions.seed = options.seed;
             sequenceOptions.rounds = rounds;
+            for (const std::string& text : lumarVariants)
+                sequenceOptions.lumar.push_back(lumar::parseLumarVariant(text));
+            sequenceOptions.dataDir = dataDir;
+            sequenceOptions.photoFrames = photoFrames;
             const lumar::TrackingSequencesReport report = lumar::runTrackingSequences(sequenceOptions);
             std::fputs((json ? lumar::trackingSequencesJson(report) : lumar::trackingSequencesMarkdown(report)).c_str(),
                        stdout);

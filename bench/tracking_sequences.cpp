@@ -1,22 +1,22 @@
 #include "bench/tracking_sequences.h"
 
 #include <algorithm>
-#include <chrono>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <random>
 
-#include <apriltag/apriltag.h>
-#include <glm/gtc/quaternion.hpp>
+#include <opencv2/imgcodecs.hpp>
 
-#include "bench/tracking_bench.h"
 #include "bench/tracking_bench_scene.h"
+#include "bench/tracking_scoring.h"
 #include "core/error.h"
 #include "core/json_output.h"
-#include "tracking/apriltag_family.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
 #include "tracking/tracked_poses.h"
@@ -29,6 +29,7 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kFps = 30.0;
 constexpr int kMapTarget = -1; // Sequence::target: the board's map pose
+constexpr int kNoTarget = -2;  // no drawn pose scored (the photos: every tag has id 0)
 
 // The camera at `eye` looking at `aim` on the plane z = 0, the world's -y seen upright
 // (OpenCV axes: x right, y down, z forward), as the benchmark's scene aims it.
@@ -158,6 +159,18 @@ TagMap boardMap(const Sequence& s)
     return makeTagMap(config);
 }
 
+// A sequence ready to run: its frames with their truth, and what a detector needs to know.
+struct RenderedSequence {
+    std::string name;
+    CameraIntrinsics k;
+    TagSizes sizes;
+    std::optional<TagMap> board; // the tags form this [[maps]] board, its frame the world's
+    int target = 0;              // the tag id whose drawn pose is scored, kMapTarget or kNoTarget
+    std::vector<BenchFrame> frames;
+    std::vector<Pose> targetTruth; // the target's true camera_from_marker (or _map) per frame
+    std::vector<bool> still, panning;
+};
+
 // What a detector gives per frame: its detections and the pose it would draw the target with.
 struct FrameResult {
     std::vector<TagDetection> detections;
@@ -168,27 +181,23 @@ class SequenceDetector {
 public:
     virtual ~SequenceDetector() = default;
     [[nodiscard]] virtual std::string name() const = 0;
-    virtual void restart(const Sequence& s) = 0;
+    virtual void restart(const RenderedSequence& s) = 0;
     virtual void detect(const Image8& luma, int frame, FrameResult& out) = 0;
 };
 
-// lumar as `lumar render` runs it: the tracker with the [tracking] defaults (but `threads`),
-// the board as a [[maps]] entry, the filtered pose at the frame's time.
+// lumar as `lumar render` runs it: the tracker with a [tracking] configuration, the board as a
+// [[maps]] entry, the filtered pose at the frame's time.
 class LumarSequenceDetector final : public SequenceDetector {
 public:
-    LumarSequenceDetector(const CameraIntrinsics& k, int threads) : k_(k), threads_(threads) {}
-    [[nodiscard]] std::string name() const override { return threads_ == 1 ? "lumar" : "lumar_2threads"; }
-    void restart(const Sequence& s) override
+    explicit LumarSequenceDetector(LumarVariant variant) : variant_(std::move(variant)) {}
+    [[nodiscard]] std::string name() const override { return variant_.name; }
+    void restart(const RenderedSequence& s) override
     {
-        TrackingConfig config;
-        config.threads = threads_;
-        TagSizes sizes;
-        for (const BenchTag& tag : s.scene.tags)
-            sizes.byId[tag.id] = tag.size;
-        tracker_ = std::make_unique<TagTracker>(config, k_, sizes);
+        // A new tracker per sequence, as `lumar render` starts with one: built before timing.
+        tracker_ = std::make_unique<TagTracker>(variant_.config, s.k, s.sizes);
         if (s.board)
-            tracker_->setMaps({boardMap(s)});
-        tracked_ = TrackedPoses(config);
+            tracker_->setMaps({*s.board});
+        tracked_ = TrackedPoses(variant_.config);
         target_ = s.target;
     }
     void detect(const Image8& luma, int frame, FrameResult& out) override
@@ -197,151 +206,102 @@ public:
         const std::vector<MapDetection> maps = tracker_->detectMaps(out.detections);
         const auto timestampNs = int64_t(std::llround(frame * 1e9 / kFps));
         tracked_.update(out.detections, maps, uint64_t(frame), timestampNs);
+        out.drawn.reset();
+        if (target_ == kNoTarget)
+            return;
         const int key = target_ == kMapTarget ? TrackedPoses::mapKey(0) : target_;
         const auto used = tracked_.poseAt(key, uint64_t(frame), timestampNs);
-        out.drawn = used ? std::optional<Pose>(used->cameraFromMarker) : std::nullopt;
+        if (used)
+            out.drawn = used->cameraFromMarker;
     }
 
 private:
-    CameraIntrinsics k_;
-    int threads_;
+    LumarVariant variant_;
     std::unique_ptr<TagTracker> tracker_;
     TrackedPoses tracked_;
     int target_ = 0;
 };
 
-// The AprilTag library with its defaults, frame by frame, with lumar's IPPE pose of each
-// detection (no history) and lumar's map solver for the board; no filter.
+// The AprilTag library with its defaults, frame by frame (bench/tracking_scoring.h), the board
+// solved from its tags by lumar's map solver; no filter.
 class AprilTagSequenceDetector final : public SequenceDetector {
 public:
-    explicit AprilTagSequenceDetector(const CameraIntrinsics& k)
-        : k_(k), family_(createAprilTagFamily("tag36h11")), detector_(apriltag_detector_create())
-    {
-        if (!detector_)
-            throw RuntimeError("cannot create the AprilTag detector");
-        apriltag_detector_add_family(detector_.get(), family_.get());
-    }
     [[nodiscard]] std::string name() const override { return "apriltag"; }
-    void restart(const Sequence& s) override
-    {
-        sizes_ = {};
-        for (const BenchTag& tag : s.scene.tags)
-            sizes_.byId[tag.id] = tag.size;
-        map_ = s.board ? std::optional<TagMap>(boardMap(s)) : std::nullopt;
-        target_ = s.target;
-    }
+    void restart(const RenderedSequence& s) override { sequence_ = &s; }
     void detect(const Image8& luma, int, FrameResult& out) override
     {
-        image_u8_t image{luma.width, luma.height, luma.width, const_cast<uint8_t*>(luma.data.data())};
-        zarray_t* detections = apriltag_detector_detect(detector_.get(), &image);
-        if (!detections)
-            throw RuntimeError("AprilTag detection failed");
-        out.detections.clear();
-        for (int i = 0; i < zarray_size(detections); ++i) {
-            apriltag_detection_t* det = nullptr;
-            zarray_get(detections, i, &det);
-            TagDetection d;
-            d.id = det->id;
-            for (size_t c = 0; c < 4; ++c)
-                d.corners[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5}; // OpenCV's pixel convention
-            const double size = sizes_.of(d.id);
-            d.hasPose = size > 0.0 && solveTagPose(d.corners, size, k_, d.cameraFromMarker, d.reprojectionErrorPx);
-            out.detections.push_back(d);
-        }
-        apriltag_detections_destroy(detections);
+        const RenderedSequence& s = *sequence_;
+        out.detections = library_.detect(luma, s.sizes, s.k);
         out.drawn.reset();
-        if (map_) {
+        if (s.board) {
             MapDetection map;
-            if (solveMapPose(*map_, out.detections, k_, map))
+            if (solveMapPose(*s.board, out.detections, s.k, map))
                 out.drawn = map.cameraFromMap;
         } else {
             for (const TagDetection& d : out.detections)
-                if (d.id == target_ && d.hasPose)
+                if (d.id == s.target && d.hasPose)
                     out.drawn = d.cameraFromMarker;
         }
     }
+    [[nodiscard]] std::string settings() const { return library_.settings(); }
 
 private:
-    struct DetectorDeleter {
-        void operator()(apriltag_detector_t* d) const { apriltag_detector_destroy(d); }
-    };
-    CameraIntrinsics k_;
-    AprilTagFamilyPtr family_; // outlives the detector, which borrows it
-    std::unique_ptr<apriltag_detector_t, DetectorDeleter> detector_;
-    TagSizes sizes_;
-    std::optional<TagMap> map_;
-    int target_ = 0;
+    AprilTagDefaults library_;
+    const RenderedSequence* sequence_ = nullptr;
 };
-
-struct RenderedSequence {
-    const Sequence* sequence = nullptr;
-    std::vector<BenchFrame> frames;
-    std::vector<Pose> targetTruth; // the target's true camera_from_marker (or _map) per frame
-};
-
-glm::dvec2 centreOf(const std::array<glm::dvec2, 4>& corners)
-{
-    return 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
-}
-
-// The rotation taking `truth` to `measured` as a rotation vector (radians).
-glm::dvec3 rotationError(const glm::dmat3& truth, const glm::dmat3& measured)
-{
-    glm::dquat q = glm::quat_cast(glm::transpose(truth) * measured);
-    if (q.w < 0.0)
-        q = -q;
-    const glm::dvec3 v(q.x, q.y, q.z);
-    const double s = glm::length(v);
-    return s < 1e-15 ? glm::dvec3(0.0) : (2.0 * std::atan2(s, q.w) / s) * v;
-}
-
-double standardDeviation(const std::vector<glm::dvec3>& samples)
-{
-    if (samples.size() < 2)
-        return kNaN;
-    glm::dvec3 mean(0.0);
-    for (const glm::dvec3& s : samples)
-        mean += s;
-    mean /= double(samples.size());
-    double sum = 0.0;
-    for (const glm::dvec3& s : samples)
-        sum += glm::dot(s - mean, s - mean);
-    return std::sqrt(sum / double(samples.size() - 1));
-}
 
 // Runs `detector` over `r` and scores it (ms per frame: this run's mean).
 TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
 {
-    const Sequence& s = *r.sequence;
     TrackingSequenceRow row;
-    row.sequence = s.name;
+    row.sequence = r.name;
     row.detector = detector.name();
     row.frames = int(r.frames.size());
-    detector.restart(s);
+    detector.restart(r);
+    const size_t tagCount = r.frames.empty() ? 0 : r.frames[0].tags.size();
     struct TagState {
         bool wasVisible = true; // a tag visible from the first frame is no re-acquisition
         bool pending = false;
         int since = 0;
+        std::array<std::vector<glm::dvec3>, 4> stillCorners; // found while still (z = 0)
     };
-    std::vector<TagState> states(s.scene.tags.size());
+    std::vector<TagState> states(tagCount);
     std::vector<int> delays;
     std::vector<glm::dvec3> stillT, stillR;
+    std::vector<double> cornerErrors;
     double lagSum = 0.0, lagMsSum = 0.0;
     int lagCount = 0;
-    double seconds = 0.0;
+    double seconds = 0.0, cpuSeconds = 0.0;
+    // Corner jitter: the RMS over the still frames' corners of their distance from the mean of
+    // the same corner of the same tag in the same still stretch (the camera may move between).
+    double jitterSquares = 0.0;
+    int jitterCount = 0;
+    const auto flushJitter = [&](TagState& state) {
+        for (std::vector<glm::dvec3>& corner : state.stillCorners) {
+            if (corner.size() >= 2) {
+                const double sd = standardDeviation(corner);
+                jitterSquares += sd * sd * double(corner.size() - 1);
+                jitterCount += int(corner.size() - 1);
+            }
+            corner.clear();
+        }
+    };
     FrameResult result;
     for (int f = 0; f < row.frames; ++f) {
         const BenchFrame& frame = r.frames[size_t(f)];
-        const auto start = std::chrono::steady_clock::now();
+        const double wall0 = wallSeconds(), cpu0 = processCpuSeconds();
         detector.detect(frame.luma, f, result);
-        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        cpuSeconds += processCpuSeconds() - cpu0;
+        seconds += wallSeconds() - wall0;
+        const FrameMatch match = matchDetections(frame.tags, result.detections);
+        if (!r.still[size_t(f)])
+            for (TagState& state : states)
+                flushJitter(state);
         for (size_t t = 0; t < frame.tags.size(); ++t) {
             const BenchTagTruth& truth = frame.tags[t];
             TagState& state = states[t];
-            bool found = false;
-            for (const TagDetection& d : result.detections)
-                found = found || (d.id == truth.id &&
-                                  glm::length(centreOf(d.corners) - centreOf(truth.corners)) <= kMatchRadiusPx);
+            const int index = match.detectionOf[t];
+            const bool found = index >= 0;
             if (truth.visible) {
                 ++row.visibleTags;
                 row.found += found ? 1 : 0;
@@ -358,19 +318,27 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
                         ++state.since;
                     }
                 }
+                if (found) {
+                    const TagDetection& d = result.detections[size_t(index)];
+                    for (size_t c = 0; c < 4; ++c) {
+                        cornerErrors.push_back(glm::length(d.corners[c] - truth.corners[c]));
+                        if (r.still[size_t(f)])
+                            state.stillCorners[c].push_back(glm::dvec3(d.corners[c], 0.0));
+                    }
+                }
             } else if (state.pending) {
                 delays.push_back(state.since); // hidden again before it was found
                 state.pending = false;
             }
             state.wasVisible = truth.visible;
         }
-        if (result.drawn) {
+        if (result.drawn && !r.targetTruth.empty()) {
             const Pose& truth = r.targetTruth[size_t(f)];
-            if (s.still(f)) {
+            if (r.still[size_t(f)]) {
                 stillT.push_back(result.drawn->t - truth.t);
-                stillR.push_back(rotationError(truth.R, result.drawn->R));
+                stillR.push_back(rotationVector(truth.R, result.drawn->R));
             }
-            if (s.panning(f) && f > 0) {
+            if (r.panning[size_t(f)] && f > 0) {
                 const glm::dvec3 velocity = truth.t - r.targetTruth[size_t(f - 1)].t; // metres per frame
                 const double speed = glm::length(velocity);
                 if (speed > 0.0) {
@@ -382,9 +350,11 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
             }
         }
     }
-    for (const TagState& state : states)
+    for (TagState& state : states) {
         if (state.pending)
             delays.push_back(state.since);
+        flushJitter(state);
+    }
     row.recall = row.visibleTags > 0 ? double(row.found) / row.visibleTags : kNaN;
     row.reacquireMeanFrames = kNaN;
     if (!delays.empty()) {
@@ -398,63 +368,187 @@ TrackingSequenceRow score(SequenceDetector& detector, const RenderedSequence& r)
     row.jitterDeg = standardDeviation(stillR) / kDeg;
     row.lagMm = lagCount > 0 ? 1000.0 * lagSum / lagCount : kNaN;
     row.lagMs = lagCount > 0 ? lagMsSum / lagCount : kNaN;
+    row.cornerMeanPx = mean(cornerErrors);
+    row.cornerJitterPx = jitterCount > 0 ? std::sqrt(jitterSquares / jitterCount) : kNaN;
     row.msPerFrame = 1000.0 * seconds / std::max(1, row.frames);
+    row.cpuMsPerFrame = 1000.0 * cpuSeconds / std::max(1, row.frames);
     return row;
 }
 
-double median(std::vector<double> v)
+RenderedSequence renderSequence(const TrackingBenchScene& scene, const Sequence& s, size_t index, uint64_t seed)
 {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n == 0 ? kNaN : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    RenderedSequence r;
+    r.name = s.name;
+    r.k = scene.intrinsics();
+    for (const BenchTag& tag : s.scene.tags)
+        r.sizes.byId[tag.id] = tag.size;
+    if (s.board)
+        r.board = boardMap(s);
+    r.target = s.target;
+    r.frames.resize(size_t(s.frames));
+    for (int f = 0; f < s.frames; ++f) {
+        BenchCondition c = s.scene;
+        c.covered = s.covered(f);
+        c.motionBlurPx = s.blurPx(f);
+        const Pose cameraFromWorld = s.cameraFromWorld(f);
+        scene.renderView(c, cameraFromWorld, seed * 1000003ULL + index * 1009ULL + uint64_t(f), r.frames[size_t(f)]);
+        if (s.target == kMapTarget) {
+            r.targetTruth.push_back(cameraFromWorld); // the board's frame is the world's
+        } else {
+            for (const BenchTagTruth& t : r.frames[size_t(f)].tags)
+                if (t.id == s.target)
+                    r.targetTruth.push_back(t.cameraFromMarker);
+        }
+        r.still.push_back(s.still(f));
+        r.panning.push_back(s.panning(f));
+    }
+    return r;
+}
+
+// The library's test photos (MANIFEST.md of the shared data): their names, in report order.
+constexpr std::array<const char*, 3> kPhotos{"33369213973_9d9bb4cc96_c", "34085369442_304b6bafd9_c",
+                                             "34139872896_defdb2f8d9_c"};
+// Sensor noise added to each frame of a photo (code values): the photos are one exposure each.
+constexpr double kPhotoNoiseSigma = 2.0;
+
+// One line per tag: "ID, (x0 y0), (x1 y1), (x2 y2), (x3 y3)", the library's pixel convention.
+std::vector<BenchTagTruth> readRecordedTags(const std::filesystem::path& path)
+{
+    std::ifstream in(path);
+    if (!in)
+        throw InputError(path.string() + ": cannot read the recorded detections");
+    std::vector<BenchTagTruth> tags;
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty())
+            continue;
+        BenchTagTruth t;
+        auto& c = t.corners;
+        if (std::sscanf(line.c_str(), "%d, (%lf %lf), (%lf %lf), (%lf %lf), (%lf %lf)", &t.id, &c[0].x, &c[0].y,
+                        &c[1].x, &c[1].y, &c[2].x, &c[2].y, &c[3].x, &c[3].y) != 9)
+            throw InputError(path.string() + ": not a recorded detection: '" + line + "'");
+        for (glm::dvec2& corner : c)
+            corner -= glm::dvec2(0.5); // into OpenCV's pixel convention
+        t.size = 0.16;
+        t.visible = true;
+        tags.push_back(t);
+    }
+    return tags;
+}
+
+// The photos as still sequences; none (and a note) when `dir` does not hold them.
+std::vector<RenderedSequence> loadPhotoSequences(const std::filesystem::path& dataDir, int frames, uint64_t seed,
+                                                 std::vector<std::string>& notes)
+{
+    std::vector<RenderedSequence> list;
+    const std::filesystem::path dir = dataDir / "apriltag" / "real";
+    std::error_code error;
+    if (dataDir.empty() || !std::filesystem::exists(dir / (std::string(kPhotos[0]) + ".jpg"), error)) {
+        notes.push_back("photo sequences skipped: no AprilTag test photos under '" + dir.string() +
+                        "' (--data or LUMAR_DATA_DIR: the shared data folder)");
+        return list;
+    }
+    for (size_t i = 0; i < kPhotos.size(); ++i) {
+        const std::filesystem::path jpeg = dir / (std::string(kPhotos[i]) + ".jpg");
+        const cv::Mat gray = cv::imread(jpeg.string(), cv::IMREAD_GRAYSCALE);
+        if (gray.empty())
+            throw InputError(jpeg.string() + ": cannot decode the photo");
+        RenderedSequence r;
+        r.name = "photo_" + std::string(kPhotos[i]).substr(0, 11);
+        // The library's pose test assumes these; no calibration exists for the photos.
+        r.k.width = gray.cols;
+        r.k.height = gray.rows;
+        r.k.fx = r.k.fy = 600.0;
+        r.k.cx = gray.cols / 2.0;
+        r.k.cy = gray.rows / 2.0;
+        r.sizes.fallback = 0.16;
+        r.target = kNoTarget;
+        const std::vector<BenchTagTruth> truth = readRecordedTags(dir / (std::string(kPhotos[i]) + ".txt"));
+        std::mt19937_64 random(seed * 7919ULL + i);
+        std::normal_distribution<double> noise(0.0, kPhotoNoiseSigma);
+        for (int f = 0; f < frames; ++f) {
+            BenchFrame frame;
+            frame.luma.width = gray.cols;
+            frame.luma.height = gray.rows;
+            frame.luma.channels = 1;
+            frame.luma.data.resize(size_t(gray.cols) * size_t(gray.rows));
+            for (int y = 0; y < gray.rows; ++y)
+                for (int x = 0; x < gray.cols; ++x)
+                    frame.luma.data[size_t(y) * size_t(gray.cols) + size_t(x)] =
+                        uint8_t(std::clamp(std::lround(gray.at<uint8_t>(y, x) + noise(random)), 0L, 255L));
+            frame.tags = truth;
+            r.frames.push_back(std::move(frame));
+            r.still.push_back(true);
+            r.panning.push_back(false);
+        }
+        list.push_back(std::move(r));
+    }
+    notes.push_back("photo_*: the AprilTag library's test photos (" + dir.string() +
+                    "; 799x533, 12, 25 and 10 tags, all id 0), each " + std::to_string(frames) +
+                    " frames of the photo with fresh Gaussian noise (sigma " + fixed(kPhotoNoiseSigma, 1) +
+                    "), scored against the corners the library recorded (quad_decimate 1); fx = fy = 600 px, "
+                    "0.16 m tags as the library's pose test assumes; corner jitter over the frames");
+    return list;
 }
 
 } // namespace
+
+LumarVariant parseLumarVariant(const std::string& text)
+{
+    LumarVariant variant;
+    const size_t colon = text.find(':');
+    variant.name = text.substr(0, colon);
+    if (variant.name.empty())
+        throw InputError("--lumar '" + text + "': needs a name, e.g. 'coarse:coarse_every=1'");
+    std::string settings = colon == std::string::npos ? std::string() : text.substr(colon + 1);
+    std::replace(settings.begin(), settings.end(), ',', '\n');
+    variant.config = parseConfig("[tracking]\n" + settings + "\n", "--lumar " + variant.name, ".").tracking;
+    // One thread unless given, as the library's defaults run.
+    const bool threadsGiven = ("\n" + settings).find("\nthreads") != std::string::npos;
+    if (!threadsGiven)
+        variant.config.threads = 1;
+    return variant;
+}
 
 TrackingSequencesReport runTrackingSequences(const TrackingSequencesOptions& options)
 {
     if (options.rounds < 1 || options.rounds > 100)
         throw InputError("tracking sequences: rounds must be in [1, 100], got " + std::to_string(options.rounds));
-    const TrackingBenchScene scene(options.width, options.height, options.seed);
-    const CameraIntrinsics& k = scene.intrinsics();
-    static const std::vector<Sequence> sequences = makeSequences();
-
-    // Every frame rendered once, before any timing.
-    std::vector<RenderedSequence> rendered(sequences.size());
-    for (size_t i = 0; i < sequences.size(); ++i) {
-        const Sequence& s = sequences[i];
-        RenderedSequence& r = rendered[i];
-        r.sequence = &s;
-        r.frames.resize(size_t(s.frames));
-        for (int f = 0; f < s.frames; ++f) {
-            BenchCondition c = s.scene;
-            c.covered = s.covered(f);
-            c.motionBlurPx = s.blurPx(f);
-            const Pose cameraFromWorld = s.cameraFromWorld(f);
-            scene.renderView(c, cameraFromWorld, options.seed * 1000003ULL + i * 1009ULL + uint64_t(f),
-                             r.frames[size_t(f)]);
-            if (s.target == kMapTarget) {
-                r.targetTruth.push_back(cameraFromWorld); // the board's frame is the world's
-            } else {
-                for (const BenchTagTruth& t : r.frames[size_t(f)].tags)
-                    if (t.id == s.target)
-                        r.targetTruth.push_back(t.cameraFromMarker);
-            }
-        }
-    }
-
-    std::vector<std::unique_ptr<SequenceDetector>> detectors;
-    detectors.push_back(std::make_unique<LumarSequenceDetector>(k, 1));
-    detectors.push_back(std::make_unique<LumarSequenceDetector>(k, 2));
-    detectors.push_back(std::make_unique<AprilTagSequenceDetector>(k));
-
+    if (options.photoFrames < 2 || options.photoFrames > 1000)
+        throw InputError("tracking sequences: photo frames must be in [2, 1000], got " +
+                         std::to_string(options.photoFrames));
     TrackingSequencesReport report;
     report.options = options;
+    const TrackingBenchScene scene(options.width, options.height, options.seed);
+    static const std::vector<Sequence> sequences = makeSequences();
+
+    // Every frame rendered (or decoded) once, before any timing.
+    std::vector<RenderedSequence> rendered;
+    for (size_t i = 0; i < sequences.size(); ++i)
+        rendered.push_back(renderSequence(scene, sequences[i], i, options.seed));
+    for (RenderedSequence& r : loadPhotoSequences(options.dataDir, options.photoFrames, options.seed, report.notes))
+        rendered.push_back(std::move(r));
+
+    std::vector<LumarVariant> variants = options.lumar;
+    if (variants.empty()) {
+        variants.push_back({"lumar", TrackingConfig{}});
+        variants.back().config.threads = 1;
+        variants.push_back({"lumar_2threads", TrackingConfig{}});
+        variants.back().config.threads = 2;
+    }
+    std::vector<std::unique_ptr<SequenceDetector>> detectors;
+    for (const LumarVariant& v : variants)
+        detectors.push_back(std::make_unique<LumarSequenceDetector>(v));
+    auto library = std::make_unique<AprilTagSequenceDetector>();
+    const std::string librarySettings = library->settings();
+    detectors.push_back(std::move(library));
+
     // rows[sequence][detector], scored in the first round; times of every round.
     std::vector<std::vector<TrackingSequenceRow>> rows(rendered.size(),
                                                        std::vector<TrackingSequenceRow>(detectors.size()));
     std::vector<std::vector<std::vector<double>>> times(rendered.size(),
                                                         std::vector<std::vector<double>>(detectors.size()));
+    auto cpuTimes = times;
     for (int round = 0; round < options.rounds; ++round)
         for (size_t i = 0; i < rendered.size(); ++i)
             for (size_t n = 0; n < detectors.size(); ++n) {
@@ -462,51 +556,49 @@ TrackingSequencesReport runTrackingSequences(const TrackingSequencesOptions& opt
                 const size_t d = round % 2 == 0 ? n : detectors.size() - 1 - n;
                 TrackingSequenceRow row = score(*detectors[d], rendered[i]);
                 times[i][d].push_back(row.msPerFrame);
+                cpuTimes[i][d].push_back(row.cpuMsPerFrame);
                 if (round == 0)
                     rows[i][d] = std::move(row);
             }
     for (size_t i = 0; i < rendered.size(); ++i)
         for (size_t d = 0; d < detectors.size(); ++d) {
             rows[i][d].msPerFrame = median(times[i][d]);
+            rows[i][d].cpuMsPerFrame = median(cpuTimes[i][d]);
             report.rows.push_back(rows[i][d]);
         }
-    report.notes.push_back("lumar: [tracking] defaults (roi, full frame every 10, One-Euro filter), the pose drawn "
-                           "at the frame's time; lumar_2threads: the same with threads = 2 (windows on two "
-                           "detectors in parallel); apriltag: the library's defaults, raw IPPE poses, the board by "
-                           "lumar's map solver");
+    std::string lumarNote = "lumar variants, each a [tracking] configuration with the pose drawn at the frame's time:";
+    for (const LumarVariant& v : variants) {
+        const TrackingConfig& c = v.config;
+        lumarNote += " " + v.name + " (threads " + std::to_string(c.threads) + ", roi " + std::to_string(int(c.roi)) +
+                     ", full frame every " + std::to_string(c.fullFrameEvery) + ", coarse every " +
+                     std::to_string(c.coarseEvery) + " at quad_decimate " + fixed(c.coarseDecimate, 1) +
+                     ", max_bit_errors " + std::to_string(c.maxBitErrors) + ");";
+    }
+    report.notes.push_back(lumarNote);
+    report.notes.push_back("apriltag: the library's defaults (" + librarySettings +
+                           "), raw IPPE poses, the board by lumar's map solver");
     report.notes.push_back("jitter and lag: of the target's drawn pose (board_4: the board's; others: tag 7, or tag 0 "
-                           "in leave_reenter and fast_pan), against the exact pose; ms: median of " +
+                           "in leave_reenter and fast_pan), against the exact pose; corner jitter: of the found "
+                           "corners on still frames; ms and CPU ms (the process's CPU time: a helper thread counts): "
+                           "median of " +
                            std::to_string(options.rounds) + " interleaved rounds");
     return report;
 }
 
-namespace {
-
-std::string number(double value, int decimals)
-{
-    if (!std::isfinite(value))
-        return "-";
-    char text[32];
-    std::snprintf(text, sizeof text, "%.*f", decimals, value);
-    return text;
-}
-
-} // namespace
-
 std::string trackingSequencesMarkdown(const TrackingSequencesReport& report)
 {
-    std::string out = "| sequence | detector | frames | visible | found | recall | re-acq. | delay mean | delay max | "
-                      "jitter mm | jitter deg | lag mm | lag ms | ms/frame |\n"
-                      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const TrackingSequenceRow& r : report.rows) {
-        out += "| " + r.sequence + " | " + r.detector + " | " + std::to_string(r.frames) + " | " +
-               std::to_string(r.visibleTags) + " | " + std::to_string(r.found) + " | " + number(r.recall, 3) + " | " +
-               std::to_string(r.reacquisitions) + " | " + number(r.reacquireMeanFrames, 2) + " | " +
-               (r.reacquisitions > 0 ? std::to_string(r.reacquireMaxFrames) : "-") + " | " + number(r.jitterMm, 2) +
-               " | " + number(r.jitterDeg, 3) + " | " + number(r.lagMm, 1) + " | " + number(r.lagMs, 1) + " | " +
-               number(r.msPerFrame, 2) + " |\n";
-    }
-    out += "\n";
+    MarkdownTable table({"sequence", "detector", "frames", "visible", "found", "recall", "re-acq.", "delay mean",
+                         "delay max", "jitter mm", "jitter deg", "lag mm", "lag ms", "corner px", "corner jitter px",
+                         "ms/frame", "CPU ms/frame"},
+                        2);
+    for (const TrackingSequenceRow& r : report.rows)
+        table.add({r.sequence, r.detector, std::to_string(r.frames), std::to_string(r.visibleTags),
+                   std::to_string(r.found), fixed(r.recall, 3), std::to_string(r.reacquisitions),
+                   fixed(r.reacquireMeanFrames, 2), r.reacquisitions > 0 ? std::to_string(r.reacquireMaxFrames) : "–",
+                   fixed(r.jitterMm, 2), fixed(r.jitterDeg, 3), fixed(r.lagMm, 1), fixed(r.lagMs, 1),
+                   fixed(r.cornerMeanPx, 3), fixed(r.cornerJitterPx, 3), fixed(r.msPerFrame, 2),
+                   fixed(r.cpuMsPerFrame, 2)});
+    std::string out = table.str() + "\n";
     for (const std::string& note : report.notes)
         out += "- " + note + "\n";
     return out;
@@ -529,7 +621,10 @@ std::string trackingSequencesJson(const TrackingSequencesReport& report)
                         {"jitter_deg", jsonSignificant(r.jitterDeg, 6)},
                         {"lag_mm", jsonSignificant(r.lagMm, 6)},
                         {"lag_ms", jsonSignificant(r.lagMs, 6)},
-                        {"ms_per_frame", jsonSignificant(r.msPerFrame, 6)}});
+                        {"corner_mean_px", jsonSignificant(r.cornerMeanPx, 6)},
+                        {"corner_jitter_px", jsonSignificant(r.cornerJitterPx, 6)},
+                        {"ms_per_frame", jsonSignificant(r.msPerFrame, 6)},
+                        {"cpu_ms_per_frame", jsonSignificant(r.cpuMsPerFrame, 6)}});
     const Json j = {{"width", report.options.width},   {"height", report.options.height}, {"seed", report.options.seed},
                     {"rounds", report.options.rounds}, {"rows", std::move(rows)},         {"notes", report.notes}};
     return jsonLine(j) + "\n";

@@ -225,6 +225,9 @@ void readTracking(TableReader& root, TrackingConfig& tracking, const Context& ct
     r.integer("threads", tracking.threads, 1, 64);
     r.boolean("roi", tracking.roi);
     r.integer("full_frame_every", tracking.fullFrameEvery, 1, 1000);
+    r.integer("coarse_every", tracking.coarseEvery, 0, 1000);
+    r.number("coarse_decimate", tracking.coarseDecimate, 1.0, 16.0);
+    r.integer("max_bit_errors", tracking.maxBitErrors, 0, 2);
     r.boolean("filter", tracking.filter);
     r.number("filter_min_cutoff", tracking.filterMinCutoffHz, 0.0, 100.0, true);
     r.number("filter_beta", tracking.filterBeta, 0.0, 1000.0);

@@ -57,6 +57,12 @@ void validate(const TrackingConfig& config, const CameraIntrinsics& k, const Tag
     if (!(config.decodeSharpening >= 0.0 && config.decodeSharpening <= 16.0))
         throw InputError("tracking: decode_sharpening must be in [0, 16], got " +
                          std::to_string(config.decodeSharpening));
+    if (!(config.coarseDecimate >= 1.0 && config.coarseDecimate <= 16.0))
+        throw InputError("tracking: coarse_decimate must be in [1, 16], got " + std::to_string(config.coarseDecimate));
+    if (config.coarseEvery < 0)
+        throw InputError("tracking: coarse_every must be >= 0, got " + std::to_string(config.coarseEvery));
+    if (config.maxBitErrors < 0 || config.maxBitErrors > 2)
+        throw InputError("tracking: max_bit_errors must be in [0, 2], got " + std::to_string(config.maxBitErrors));
     if (config.threads < 1 || config.threads > kMaxThreads)
         throw InputError("tracking: threads must be in [1, " + std::to_string(kMaxThreads) + "], got " +
                          std::to_string(config.threads));
@@ -81,13 +87,14 @@ bool libraryWritesInput(const TrackingConfig& config)
     return kernel > 1;
 }
 
-DetectorPtr createDetector(const TrackingConfig& config, apriltag_family_t& family, int bits, int threads)
+DetectorPtr createDetector(const TrackingConfig& config, apriltag_family_t& family, int bits, int threads,
+                           double quadDecimate)
 {
     DetectorPtr detector(apriltag_detector_create());
     if (!detector)
         throw RuntimeError("cannot create the AprilTag detector");
     apriltag_detector_t& td = *detector;
-    td.quad_decimate = float(config.quadDecimate);
+    td.quad_decimate = float(quadDecimate);
     td.quad_sigma = float(config.quadSigma);
     td.refine_edges = config.refineEdges;
     td.decode_sharpening = config.decodeSharpening;
@@ -114,6 +121,11 @@ struct TagTracker::Impl {
     // code tables and random() in debug output).
     DetectorPtr second;
     std::unique_ptr<HelperThread> helper;
+    // With coarse_every > 0: the coarse search's detector (coarse_decimate, one thread; the
+    // family's table is shared, so it costs a few hundred bytes).
+    DetectorPtr coarse;
+    int coarseEvery = 0;
+    int framesSinceCoarse = 0;
     CameraIntrinsics intrinsics;
     TagSizes sizes;
     std::vector<TagMap> maps;
@@ -150,6 +162,9 @@ struct TagTracker::Impl {
     // Searches the followed tags' windows; false when the result cannot stand for a
     // full-frame search (a detection cut by a window's edge, a tag of the last frame missing).
     bool searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out);
+    // The coarse search of the whole frame: true when it finds a tag that `windowResult` (the
+    // windows' detections) lacks, which then brings a full-frame search.
+    bool coarseFindsMore(uint8_t* pixels, int width, int height, const std::vector<TagDetection>& windowResult);
     // Detects in `windows` on both detectors at once (each window on one), the results per window.
     void searchInParallel(uint8_t* pixels, int stride, const std::vector<SearchWindow>& windows,
                           std::vector<std::vector<TagDetection>>& found);
@@ -188,8 +203,9 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
 {
     validate(config, intrinsics, sizes);
     impl_->family = createAprilTagFamily(config.family);
-    const int bits = correctableBitsFor(*impl_->family);
-    impl_->detector = createDetector(config, *impl_->family, bits, kLibraryThreadsAreSafe ? config.threads : 1);
+    const int bits = std::min(config.maxBitErrors, correctableBitsFor(*impl_->family));
+    impl_->detector =
+        createDetector(config, *impl_->family, bits, kLibraryThreadsAreSafe ? config.threads : 1, config.quadDecimate);
     const apriltag_detector_t& td = *impl_->detector;
     if (td.nthreads != config.threads) {
         LUMAR_LOG(Tracking, Info) << "libapriltag " << LUMAR_APRILTAG_VERSION
@@ -200,8 +216,12 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     // Not where the library writes into the frame: windows are disjoint, but one blurred in
     // place by one thread next to one read by the other is not worth the doubt.
     if (config.threads >= 2 && config.roi && !impl_->copyInput) {
-        impl_->second = createDetector(config, *impl_->family, bits, 1);
+        impl_->second = createDetector(config, *impl_->family, bits, 1, config.quadDecimate);
         impl_->helper = std::make_unique<HelperThread>();
+    }
+    if (config.roi && config.coarseEvery > 0) {
+        impl_->coarse = createDetector(config, *impl_->family, bits, 1, config.coarseDecimate);
+        impl_->coarseEvery = config.coarseEvery;
     }
 
     impl_->intrinsics = intrinsics;
@@ -213,7 +233,11 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits << " bits), quad_decimate "
                               << config.quadDecimate << ", quad_sigma " << config.quadSigma << ", refine_edges "
                               << config.refineEdges << ", " << td.nthreads << " threads"
-                              << (impl_->second ? ", windows on 2 detectors" : "");
+                              << (impl_->second ? ", windows on 2 detectors" : "")
+                              << (impl_->coarse
+                                      ? ", a coarse search every " + std::to_string(config.coarseEvery) +
+                                            " frames at quad_decimate " + std::to_string(config.coarseDecimate)
+                                      : std::string());
 }
 
 TagTracker::~TagTracker() = default;
@@ -284,6 +308,7 @@ void TagTracker::Impl::forgetHistory()
     lastIds.clear();
     lastWindows.clear();
     framesSinceFullSearch = 0;
+    framesSinceCoarse = 0;
     mapsInput.clear();
     mapsResult.clear();
     mapsValid = false;
@@ -321,6 +346,14 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     ++counts.frames;
     if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
         searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
+        if (searched && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery) {
+            impl_->framesSinceCoarse = 0;
+            ++counts.coarseSearches;
+            if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
+                searched = false;
+                ++counts.coarseCatches;
+            }
+        }
         ++(searched ? counts.windowSearches : counts.fallbacks);
     }
     if (!searched) {
@@ -376,6 +409,26 @@ bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std
         ++j;
     }
     return true;
+}
+
+bool TagTracker::Impl::coarseFindsMore(uint8_t* pixels, int width, int height,
+                                       const std::vector<TagDetection>& windowResult)
+{
+    std::vector<TagDetection> found;
+    detectIn(*coarse, pixels, width, {0, 0, width, height}, found);
+    const auto centre = [](const TagDetection& d) {
+        return 0.25 * (d.corners[0] + d.corners[1] + d.corners[2] + d.corners[3]);
+    };
+    for (const TagDetection& c : found) {
+        // The same tag when a window found its id within half the tag's diagonal.
+        const double near = 0.5 * glm::length(c.corners[2] - c.corners[0]);
+        const bool held = std::any_of(windowResult.begin(), windowResult.end(), [&](const TagDetection& w) {
+            return w.id == c.id && glm::length(centre(w) - centre(c)) <= near;
+        });
+        if (!held)
+            return true;
+    }
+    return false;
 }
 
 void TagTracker::Impl::follow(const std::vector<TagDetection>& detections)

@@ -89,6 +89,8 @@ public:
         uint64_t windowSearches = 0; // frames whose windows' result stood
         uint64_t fullSearches = 0;   // frames searched whole (first, scheduled, or fallback)
         uint64_t fallbacks = 0;      // of those, after a window search that did not stand
+        uint64_t coarseSearches = 0; // coarse searches of the whole frame (coarse_every)
+        uint64_t coarseCatches = 0;  // of those, finding a tag the windows lacked (then a fallback)
     };
     [[nodiscard]] const SearchCounts& searchCounts() const;
 

@@ -127,6 +127,39 @@ TEST(Reacquisition, OcclusionEndingAtAnyFrameIsReacquiredAtOnce)
     }
 }
 
+// coarse_every = 1: a tag entering the view while another one is followed is found on the first
+// frame it shows, at every phase of the full-frame schedule, by the coarse search of the whole
+// frame; without it, only at the next scheduled full-frame search.
+TEST(Reacquisition, CoarseSearchFindsATagEnteringTheViewAtOnce)
+{
+    TagSizes sizes;
+    sizes.fallback = 0.08;
+    TrackingConfig coarse = roiConfig(), none = roiConfig();
+    coarse.coarseEvery = 1;
+    none.coarseEvery = 0;
+    TagTracker withCoarse(coarse, camera(), sizes), without(none, camera(), sizes);
+    int lateWithout = 0;
+    for (int appear = 1; appear <= kFullFrameEvery + 1; ++appear) {
+        SCOPED_TRACE("tag 0 enters on frame " + std::to_string(appear));
+        withCoarse.reset(camera());
+        without.reset(camera());
+        for (int frame = 0; frame <= appear; ++frame) {
+            std::vector<PlacedTag> tags{{1, 380, 220}};
+            if (frame >= appear)
+                tags.push_back({0, 60, 120});
+            const Image8 image = drawTags(tags);
+            const auto a = withCoarse.detect(image), b = without.detect(image);
+            ASSERT_TRUE(found(a, 1)) << "frame " << frame;
+            EXPECT_EQ(found(a, 0), frame >= appear) << "frame " << frame;
+            if (frame == appear && !found(b, 0))
+                ++lateWithout;
+        }
+    }
+    EXPECT_GT(lateWithout, 0); // what the coarse search is for
+    EXPECT_GT(withCoarse.searchCounts().coarseCatches, 0u);
+    EXPECT_GT(withCoarse.searchCounts().windowSearches, 0u); // the windows still stood on the other frames
+}
+
 // Two copies of one id: the one missed on a frame is found again on the next, the other
 // still followed where it is.
 TEST(Reacquisition, EachCopyOfARepeatedIdIsFollowed)

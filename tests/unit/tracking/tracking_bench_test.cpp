@@ -12,6 +12,8 @@
 
 #include "bench/tracking_bench.h"
 #include "bench/tracking_bench_scene.h"
+#include "bench/tracking_scoring.h"
+#include "bench/tracking_sequences.h"
 #include "core/error.h"
 
 namespace lumar {
@@ -205,6 +207,60 @@ TEST(TrackingBench, RejectsBadOptions)
     options.framesPerCondition = 0;
     EXPECT_THROW(runTrackingBench(options), InputError);
     EXPECT_THROW(TrackingBenchScene(32, 32, 1), InputError);
+}
+
+// The one matching rule of the stills and the sequences: each detection to the nearest free tag
+// of its id within kMatchRadiusPx; repeated ids (the library's photos) each find their own.
+TEST(TrackingScoring, MatchesRepeatedIdsToTheNearestFreeTag)
+{
+    const auto square = [](double x, double y) {
+        return std::array<glm::dvec2, 4>{glm::dvec2(x, y), glm::dvec2(x + 20, y), glm::dvec2(x + 20, y + 20),
+                                         glm::dvec2(x, y + 20)};
+    };
+    std::vector<BenchTagTruth> truths(3);
+    truths[0].id = 0;
+    truths[0].corners = square(0, 0);
+    truths[1].id = 0;
+    truths[1].corners = square(100, 0);
+    truths[2].id = 5;
+    truths[2].corners = square(200, 0);
+    std::vector<TagDetection> found(5);
+    found[0].id = 0;
+    found[0].corners = square(102, 1); // the second tag
+    found[1].id = 0;
+    found[1].corners = square(1, 0); // the first
+    found[2].id = 0;
+    found[2].corners = square(0, 2); // the first again: a false positive
+    found[3].id = 6;
+    found[3].corners = square(200, 0); // a wrong id
+    found[4].id = 5;
+    found[4].corners = square(200 + kMatchRadiusPx + 1, 0); // too far
+    const FrameMatch match = matchDetections(truths, found);
+    EXPECT_EQ(match.detectionOf, (std::vector<int>{1, 0, -1}));
+    EXPECT_EQ(match.falsePositives, 3);
+}
+
+TEST(TrackingScoring, MarkdownTableHasAHeaderRuleAndRows)
+{
+    MarkdownTable table({"name", "value"}, 1);
+    table.add({"a", fixed(1.26, 1)});
+    table.add({"b", fixed(std::nan(""), 1)});
+    EXPECT_EQ(table.str(), "| name | value |\n|---|---:|\n| a | 1.3 |\n| b | – |\n");
+}
+
+TEST(TrackingSequences, LumarVariantsAreTrackingTablesOverTheDefaults)
+{
+    const LumarVariant plain = parseLumarVariant("plain");
+    EXPECT_EQ(plain.name, "plain");
+    EXPECT_EQ(plain.config.threads, 1); // as the library's defaults
+    EXPECT_EQ(plain.config.fullFrameEvery, TrackingConfig{}.fullFrameEvery);
+    const LumarVariant coarse = parseLumarVariant("coarse:coarse_every=2,max_bit_errors=1,threads=2");
+    EXPECT_EQ(coarse.config.coarseEvery, 2);
+    EXPECT_EQ(coarse.config.maxBitErrors, 1);
+    EXPECT_EQ(coarse.config.threads, 2);
+    EXPECT_THROW(parseLumarVariant(":threads=1"), InputError);
+    EXPECT_THROW(parseLumarVariant("bad:max_bit_errors=3"), InputError);
+    EXPECT_THROW(parseLumarVariant("bad:no_such_key=1"), InputError);
 }
 
 } // namespace
