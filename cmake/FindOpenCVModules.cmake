@@ -13,14 +13,13 @@ target_link_libraries(lumar_opencv INTERFACE ${_lumar_opencv_libs})
 add_library(lumar::opencv ALIAS lumar_opencv)
 message(STATUS "OpenCV modules: ${_lumar_opencv_libs}")
 
-# imgcodecs (image files) only for the tests that read and write images with OpenCV; lumar
-# decodes with stb_image, so the binary and its package do not depend on imgcodecs' closure.
-if(LUMAR_BUILD_TESTS)
-  find_library(OPENCV_imgcodecs_LIBRARY NAMES opencv_imgcodecs REQUIRED)
-  add_library(lumar_opencv_imgcodecs INTERFACE)
-  target_link_libraries(lumar_opencv_imgcodecs INTERFACE lumar_opencv ${OPENCV_imgcodecs_LIBRARY})
-  add_library(lumar::opencv_imgcodecs ALIAS lumar_opencv_imgcodecs)
-endif()
+# imgcodecs (image files) only for the tests and the tracking benchmark (bench/, never
+# installed), which read and write images with OpenCV; lumar decodes with stb_image, so the
+# binary and its package do not depend on imgcodecs' closure.
+find_library(OPENCV_imgcodecs_LIBRARY NAMES opencv_imgcodecs REQUIRED)
+add_library(lumar_opencv_imgcodecs INTERFACE)
+target_link_libraries(lumar_opencv_imgcodecs INTERFACE lumar_opencv ${OPENCV_imgcodecs_LIBRARY})
+add_library(lumar::opencv_imgcodecs ALIAS lumar_opencv_imgcodecs)
 
 # Optional: OpenCV's contrib aruco module (Debian: libopencv-contrib-dev), only for the ArUco
 # column of lumar-bench-tracking (bench/); without it that detector is skipped.
