@@ -103,7 +103,7 @@ struct TrackingConfig {
     // full-frame search at once (a tag re-entering the view), see tracking/tag_tracker.cpp.
     int coarseEvery = 3; // measured: leave_reenter recall 0.952 -> 1.000 for +18% CPU (every 1: +73%)
     double coarseDecimate = 4.0;
-    int maxBitErrors = 2; // bit errors corrected (tag36h11: 2 costs a 36.5 MiB table, 1 about 1 MiB)
+    int maxBitErrors = 2; // bit errors corrected in the scene's tags; other ids decode error-free (scene_families.h)
     bool filter = true;   // One-Euro pose filtering (tracking/one_euro_filter.h)
     double filterMinCutoffHz = 0.3;
     double filterBeta = 40.0;

@@ -42,17 +42,6 @@ constexpr std::array kFamilies{
 // of correctable bits is lowered until the table fits this budget.
 constexpr double kDecodeTableBudgetBytes = 64.0 * 1024 * 1024;
 
-double decodeTableBytes(const apriltag_family& family, int bits)
-{
-    const double n = family.nbits;
-    double entriesPerCode = 1.0;
-    if (bits >= 1)
-        entriesPerCode += n;
-    if (bits >= 2)
-        entriesPerCode += n * (n - 1);
-    return double(family.ncodes) * entriesPerCode * 3.0 * 16.0;
-}
-
 } // namespace
 
 AprilTagFamilyPtr createAprilTagFamily(const std::string& name)
@@ -66,6 +55,17 @@ AprilTagFamilyPtr createAprilTagFamily(const std::string& name)
         return family;
     }
     throw InputError("unknown tag family '" + name + "'");
+}
+
+double decodeTableBytes(const apriltag_family& family, int bits)
+{
+    const double n = family.nbits;
+    double entriesPerCode = 1.0;
+    if (bits >= 1)
+        entriesPerCode += n;
+    if (bits >= 2)
+        entriesPerCode += n * (n - 1);
+    return double(family.ncodes) * entriesPerCode * 3.0 * 16.0;
 }
 
 int correctableBitsFor(const apriltag_family& family)

@@ -22,6 +22,10 @@ using AprilTagFamilyPtr = std::unique_ptr<apriltag_family, AprilTagFamilyDeleter
 // Throws InputError "unknown tag family 'x'" for a name the library does not provide.
 AprilTagFamilyPtr createAprilTagFamily(const std::string& name);
 
+// The bytes of the decode table libapriltag builds for `family` with `bits` correctable bit
+// errors (3 slots of 16 bytes per code variant, its own sizing; see the .cpp).
+double decodeTableBytes(const apriltag_family& family, int bits);
+
 // How many bit errors the detector may correct for `family`: the library's default of 2
 // where its decode table stays small, fewer for the large families (see the .cpp).
 int correctableBitsFor(const apriltag_family& family);

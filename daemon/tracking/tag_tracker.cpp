@@ -2,15 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <string>
 
 #include <apriltag/apriltag.h>
 
 #include "core/error.h"
 #include "core/log.h"
-#include "tracking/apriltag_family.h"
 #include "tracking/followed_tags.h"
 #include "tracking/helper_thread.h"
+#include "tracking/scene_families.h"
 #include "tracking/tag_map.h"
 
 namespace lumar {
@@ -87,7 +88,7 @@ bool libraryWritesInput(const TrackingConfig& config)
     return kernel > 1;
 }
 
-DetectorPtr createDetector(const TrackingConfig& config, apriltag_family_t& family, int bits, int threads,
+DetectorPtr createDetector(const TrackingConfig& config, const SceneFamilies& families, int threads,
                            double quadDecimate)
 {
     DetectorPtr detector(apriltag_detector_create());
@@ -99,18 +100,20 @@ DetectorPtr createDetector(const TrackingConfig& config, apriltag_family_t& fami
     td.refine_edges = config.refineEdges;
     td.decode_sharpening = config.decodeSharpening;
     td.nthreads = threads;
-    apriltag_detector_add_family_bits(&td, &family, bits);
+    families.addTo(td);
     return detector;
 }
 
 } // namespace
 
 struct TagTracker::Impl {
-    // Declared before the detectors so that it outlives them: they only borrow it. Both
-    // detectors share it: the library builds its decoding table into the family once (at the
+    // Declared before the detectors so that it outlives them: they only borrow it. All
+    // detectors share it: the library builds each family's decoding table once (at the
     // first apriltag_detector_add_family_bits, before any detection) and only reads it while
-    // detecting; the first detector destroyed frees it, the second then finds nothing to free.
-    AprilTagFamilyPtr family;
+    // detecting; the first detector destroyed frees it, the others then find nothing to free.
+    // The detectors are made at the first detect(), once setMaps() has named the maps' tags:
+    // the families depend on the scene's ids (scene_families.h).
+    std::unique_ptr<SceneFamilies> families;
     DetectorPtr detector;
     // With threads >= 2, a second detector and a helper thread search half of the followed
     // tags' windows in parallel (DESIGN.md §5). Each detector runs its library calls with
@@ -126,6 +129,7 @@ struct TagTracker::Impl {
     DetectorPtr coarse;
     int coarseEvery = 0;
     int framesSinceCoarse = 0;
+    TrackingConfig config;
     CameraIntrinsics intrinsics;
     TagSizes sizes;
     std::vector<TagMap> maps;
@@ -156,6 +160,10 @@ struct TagTracker::Impl {
     SearchCounts counts;
 
     void forgetHistory();
+    // The scene's ids (the sized tags and the maps' tags; none when every tag is posed by a
+    // fallback size), their families and the detectors, unless made already.
+    void makeDetectors();
+    void dropDetectors();
     // Solves the pose of every detection whose size is known.
     void solvePoses(std::vector<TagDetection>& detections);
     [[nodiscard]] std::vector<MapDetection> solveMaps(const std::vector<TagDetection>& detections) const;
@@ -173,8 +181,8 @@ struct TagTracker::Impl {
 
     // Detects in the rectangle [x0, x1) x [y0, y1) of `pixels` (row stride `stride`) and
     // appends to `out` with corners in full-image coordinates.
-    static void detectIn(apriltag_detector_t& td, uint8_t* pixels, int stride, const SearchWindow& w,
-                         std::vector<TagDetection>& out);
+    void detectIn(apriltag_detector_t& td, uint8_t* pixels, int stride, const SearchWindow& w,
+                  std::vector<TagDetection>& out) const;
 };
 
 namespace {
@@ -202,42 +210,68 @@ TagTracker::TagTracker(const TrackingConfig& config, const CameraIntrinsics& int
     : impl_(std::make_unique<Impl>())
 {
     validate(config, intrinsics, sizes);
-    impl_->family = createAprilTagFamily(config.family);
-    const int bits = std::min(config.maxBitErrors, correctableBitsFor(*impl_->family));
-    impl_->detector =
-        createDetector(config, *impl_->family, bits, kLibraryThreadsAreSafe ? config.threads : 1, config.quadDecimate);
-    const apriltag_detector_t& td = *impl_->detector;
-    if (td.nthreads != config.threads) {
-        LUMAR_LOG(Tracking, Info) << "libapriltag " << LUMAR_APRILTAG_VERSION
-                                  << " can crash with several threads (fixed in 3.4.3): full frames on 1 thread, not "
-                                  << config.threads;
-    }
+    (void)createAprilTagFamily(config.family); // an unknown name is bad input now, not at the first frame
+    impl_->config = config;
     impl_->copyInput = libraryWritesInput(config);
-    // Not where the library writes into the frame: windows are disjoint, but one blurred in
-    // place by one thread next to one read by the other is not worth the doubt.
-    if (config.threads >= 2 && config.roi && !impl_->copyInput) {
-        impl_->second = createDetector(config, *impl_->family, bits, 1, config.quadDecimate);
-        impl_->helper = std::make_unique<HelperThread>();
-    }
-    if (config.roi && config.coarseEvery > 0) {
-        impl_->coarse = createDetector(config, *impl_->family, bits, 1, config.coarseDecimate);
-        impl_->coarseEvery = config.coarseEvery;
-    }
-
     impl_->intrinsics = intrinsics;
     impl_->sizes = std::move(sizes);
     impl_->roi = config.roi;
     impl_->fullFrameEvery = std::max(1, config.fullFrameEvery);
     impl_->roiAlignment = 4 * int(std::ceil(config.quadDecimate));
     impl_->forgetHistory();
-    LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << bits << " bits), quad_decimate "
-                              << config.quadDecimate << ", quad_sigma " << config.quadSigma << ", refine_edges "
-                              << config.refineEdges << ", " << td.nthreads << " threads"
-                              << (impl_->second ? ", windows on 2 detectors" : "")
-                              << (impl_->coarse
-                                      ? ", a coarse search every " + std::to_string(config.coarseEvery) +
-                                            " frames at quad_decimate " + std::to_string(config.coarseDecimate)
-                                      : std::string());
+}
+
+void TagTracker::Impl::makeDetectors()
+{
+    if (detector)
+        return;
+    std::set<int> sceneIds;
+    if (!(sizes.fallback > 0.0)) {
+        for (const auto& [id, size] : sizes.byId)
+            sceneIds.insert(id);
+        for (const TagMap& map : maps)
+            for (const TagMapTag& tag : map.tags)
+                sceneIds.insert(tag.id);
+    }
+    families = std::make_unique<SceneFamilies>(config.family, sceneIds, config.maxBitErrors);
+    detector = createDetector(config, *families, kLibraryThreadsAreSafe ? config.threads : 1, config.quadDecimate);
+    const apriltag_detector_t& td = *detector;
+    if (td.nthreads != config.threads) {
+        LUMAR_LOG(Tracking, Info) << "libapriltag " << LUMAR_APRILTAG_VERSION
+                                  << " can crash with several threads (fixed in 3.4.3): full frames on 1 thread, not "
+                                  << config.threads;
+    }
+    // Not where the library writes into the frame: windows are disjoint, but one blurred in
+    // place by one thread next to one read by the other is not worth the doubt.
+    if (config.threads >= 2 && config.roi && !copyInput) {
+        second = createDetector(config, *families, 1, config.quadDecimate);
+        helper = std::make_unique<HelperThread>();
+    }
+    if (config.roi && config.coarseEvery > 0) {
+        coarse = createDetector(config, *families, 1, config.coarseDecimate);
+        coarseEvery = config.coarseEvery;
+    }
+    LUMAR_LOG(Tracking, Info) << "AprilTag " << config.family << " (corrects " << families->sceneBitErrors() << " bits"
+                              << (families->split() ? " for the scene's " + std::to_string(sceneIds.size()) +
+                                                          " ids, none for the others"
+                                                    : std::string())
+                              << ", decode tables " << int(families->decodeTableBytes() / 1024.0)
+                              << " KiB), quad_decimate " << config.quadDecimate << ", quad_sigma " << config.quadSigma
+                              << ", refine_edges " << config.refineEdges << ", " << td.nthreads << " threads"
+                              << (second ? ", windows on 2 detectors" : "")
+                              << (coarse ? ", a coarse search every " + std::to_string(config.coarseEvery) +
+                                               " frames at quad_decimate " + std::to_string(config.coarseDecimate)
+                                         : std::string());
+}
+
+void TagTracker::Impl::dropDetectors()
+{
+    // The helper thread first (it may hold the second detector), the families last.
+    helper.reset();
+    coarse.reset();
+    second.reset();
+    detector.reset();
+    families.reset();
 }
 
 TagTracker::~TagTracker() = default;
@@ -258,6 +292,8 @@ void TagTracker::setMaps(std::vector<TagMap> maps)
                                  std::to_string(it->second));
         }
     impl_->maps = std::move(maps);
+    // The maps' tags join the scene's ids: the families are made again at the next detect().
+    impl_->dropDetectors();
 }
 
 std::vector<MapDetection> TagTracker::detectMaps(const std::vector<TagDetection>& detections) const
@@ -331,6 +367,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     impl_->lastWindows.clear();
     if (luma.width < kMinImageSide || luma.height < kMinImageSide)
         return result;
+    impl_->makeDetectors();
 
     // The library takes a mutable buffer but only reads it, except in the case above.
     uint8_t* pixels = const_cast<uint8_t*>(luma.data.data());
@@ -361,7 +398,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
         result.clear();
         impl_->lastWindows.clear();
         impl_->framesSinceFullSearch = 0;
-        Impl::detectIn(*impl_->detector, pixels, luma.width, {0, 0, luma.width, luma.height}, result);
+        impl_->detectIn(*impl_->detector, pixels, luma.width, {0, 0, luma.width, luma.height}, result);
         sortDetections(result);
     }
     impl_->solvePoses(result);
@@ -513,7 +550,7 @@ void TagTracker::Impl::searchInParallel(uint8_t* pixels, int stride, const std::
 }
 
 void TagTracker::Impl::detectIn(apriltag_detector_t& td, uint8_t* pixels, int stride, const SearchWindow& w,
-                                std::vector<TagDetection>& out)
+                                std::vector<TagDetection>& out) const
 {
     const int x0 = w.x0, y0 = w.y0;
     image_u8_t image{w.x1 - w.x0, w.y1 - w.y0, stride, pixels + size_t(y0) * size_t(stride) + size_t(x0)};
@@ -527,7 +564,7 @@ void TagTracker::Impl::detectIn(apriltag_detector_t& td, uint8_t* pixels, int st
         apriltag_detection_t* det = nullptr;
         zarray_get(detections.get(), i, &det);
         TagDetection d;
-        d.id = det->id;
+        d.id = families->idOf(*det);
         d.hamming = det->hamming;
         d.decisionMargin = det->decision_margin;
         // The library's pixel (0,0) covers [0,1]^2, ours [-0.5,0.5]^2 (DESIGN.md §5).
