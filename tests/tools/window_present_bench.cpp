@@ -1,7 +1,10 @@
 // The preview window's cost per frame: SceneRenderer::present() into an X11 window through
 // EGL's window surface (blit, eglSwapBuffers, one X round trip) and through MIT-SHM (read back
 // into the shared image, XShmPutImage, one round trip), against readback() (what the headless
-// sink pays), at 1280x720 on a private Xvfb. Interleaved rounds, medians. Not a test.
+// sink pays), at 1280x720 on a private Xvfb; with Wayland built in and weston installed, also
+// into a Wayland window on weston's X11 backend in the same Xvfb (shared memory: read back
+// into a wl_shm buffer, attach, commit, one round trip). Interleaved rounds, medians. Not a
+// test.
 //
 //   build/tests/tools/window_present_bench [rounds] [frames]   (defaults 5 rounds of 60 frames)
 #include <algorithm>
@@ -12,9 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "gl/weston_server.h"
 #include "gl/xvfb_server.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/window/x11_window.h"
+#if LUMAR_HAVE_WAYLAND
+#include "gles_renderer/window/wayland_window.h"
+#endif
 
 namespace {
 
@@ -79,6 +86,28 @@ int main(int argc, char** argv)
     Setup shm = open(server.display(), lumar::X11Presentation::SharedMemory, background, k);
     if (!shm.window->presentsFromMemory())
         std::fprintf(stderr, "MIT-SHM refused: the second column is the EGL swap too\n");
+#if LUMAR_HAVE_WAYLAND
+    // weston's output is the frame's size: the kiosk shell's full-output window takes the
+    // frame as it is, no scaling.
+    std::unique_ptr<lumar::test::WestonServer> weston;
+    std::unique_ptr<lumar::WaylandWindow> waylandWindow;
+    std::unique_ptr<lumar::SceneRenderer> waylandRenderer;
+    if (lumar::test::WestonServer::installed()) {
+        weston = std::make_unique<lumar::test::WestonServer>(width, height, server.display());
+        std::string why;
+        if (!weston->socket().empty())
+            waylandWindow = lumar::WaylandWindow::open(weston->socket(), "bench", width, height, why,
+                                                       lumar::WaylandPresentation::SharedMemory);
+        if (waylandWindow) {
+            lumar::RenderOptions options;
+            options.display = waylandWindow->eglDisplay();
+            waylandRenderer = lumar::SceneRenderer::create(width, height, options);
+            waylandRenderer->render(background, k, {});
+        } else {
+            std::fprintf(stderr, "no Wayland window on weston (X11 backend): %s\n", why.c_str());
+        }
+    }
+#endif
 
     // The setup view of four tags (outline, axes, label each) and a status line, drawn before
     // the readback in the fourth column: its cost is that column less the third.
@@ -101,10 +130,17 @@ int main(int argc, char** argv)
                              3});
 
     using Clock = std::chrono::steady_clock;
-    std::vector<double> swapMs, shmMs, readbackMs, overlayMs;
+    std::vector<double> swapMs, shmMs, readbackMs, overlayMs, waylandMs;
     lumar::Image8 out;
     for (int round = 0; round < rounds; ++round) {
-        for (int pass = 0; pass < 4; ++pass) {
+        for (int pass = 0; pass < 5; ++pass) {
+#if LUMAR_HAVE_WAYLAND
+            if (pass == 4 && !waylandWindow)
+                continue;
+#else
+            if (pass == 4)
+                continue;
+#endif
             const auto start = Clock::now();
             for (int i = 0; i < frames; ++i) {
                 if (pass == 0)
@@ -113,18 +149,29 @@ int main(int argc, char** argv)
                     shm.renderer->present(*shm.window);
                 else if (pass == 2)
                     shm.renderer->readback(out);
-                else {
+                else if (pass == 3) {
                     shm.renderer->drawOverlay(overlay);
                     shm.renderer->readback(out);
                 }
+#if LUMAR_HAVE_WAYLAND
+                else
+                    waylandRenderer->present(*waylandWindow);
+#endif
             }
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / frames;
-            (pass == 0 ? swapMs : pass == 1 ? shmMs : pass == 2 ? readbackMs : overlayMs).push_back(ms);
+            (pass == 0   ? swapMs
+             : pass == 1 ? shmMs
+             : pass == 2 ? readbackMs
+             : pass == 3 ? overlayMs
+                         : waylandMs)
+                .push_back(ms);
         }
     }
     std::printf("%dx%d, %d rounds of %d frames, medians per frame: EGL swap %.2f ms, MIT-SHM %.2f ms, headless "
                 "readback %.2f ms (swap/shm %.1fx); overlay + readback %.2f ms\n",
                 width, height, rounds, frames, median(swapMs), median(shmMs), median(readbackMs),
                 median(swapMs) / median(shmMs), median(overlayMs));
+    if (!waylandMs.empty())
+        std::printf("Wayland (weston 10, X11 backend, pixman), shared memory: %.2f ms per frame\n", median(waylandMs));
     return 0;
 }
