@@ -285,7 +285,9 @@ the run (exit 0); without a display server the path is written instead. The disp
 chosen once: a reload keeps it.)");
     addConfigFile(*c, o.config);
     addInteger(*c, "--frames", o.frames, {0, double(1L << 40)}, "stop after N frames, 0: run until stopped");
-    addFlag(*c, "--preview", o.preview, "show the frames in a desktop window (X11), as [output] sink = \"window\"");
+    addFlag(*c, "--preview", o.preview,
+            "show the frames in a desktop window (Wayland or X11; q or Escape in it, or closing it, stops the "
+            "run), as [output] sink = \"window\"");
     addFlag(*c, "--overlay", o.overlay,
             "draw the setup view (tag outlines, ids, axes, errors, status) over every frame, as [output] overlay = "
             "true; the key o toggles it in the window");

@@ -288,12 +288,18 @@ int runCommand(const RunCommandOptions& options)
                 window->fitFrame(frame.width, frame.height);
             }
             window->pollEvents();
-            // The key o turns the setup view on and off.
-            for (const char key : window->takeTypedKeys())
+            // The key o turns the setup view on and off; q or Escape ends the run as closing
+            // the window does: lumar draws no decorations, and some compositors (weston's
+            // shells) have no other way to close a window.
+            bool quitKey = false;
+            for (const char key : window->takeTypedKeys()) {
                 if (key == 'o' || key == 'O')
                     scene->pipeline->setOverlay(!scene->pipeline->overlay());
-            if (window->closeRequested()) {
-                LUMAR_LOG(App, Info) << "the preview window was closed";
+                quitKey = quitKey || key == 'q' || key == 'Q' || key == '\x1b';
+            }
+            if (quitKey || window->closeRequested()) {
+                LUMAR_LOG(App, Info) << (quitKey ? "the preview window's quit key was pressed"
+                                                 : "the preview window was closed");
                 break;
             }
         }

@@ -1,24 +1,24 @@
-// A private Wayland compositor for tests: weston on its headless backend (no GPU, no input
-// devices), in a runtime directory of its own, killed when the test ends. Its kiosk shell
-// makes every toplevel fill the one output, so a window's size is the output's. Tests skip
-// when weston is not installed.
+// A private Wayland compositor for tests: weston in a runtime directory of its own, killed when
+// the test ends. Its kiosk shell makes every toplevel fill the one output, without decorations,
+// so a window's size is the output's. Two backends:
+// - headless (no GPU, no input devices): enough to see a client's buffers reach weston;
+// - X11, inside a test's Xvfb (xvfb_server.h): weston's output is then an X window of the
+//   output's size that shows exactly what weston composited (pixman renderer), read back with
+//   X11Viewer as a user would see it, and X key events sent to that window reach weston's
+//   Wayland clients as keyboard input.
+// Tests skip when weston is not installed.
 #pragma once
 
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include <fcntl.h>
-#include <spawn.h>
+#include <stdlib.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-extern char** environ;
+#include "gl/child_server.h"
 
 namespace lumar::test {
 
@@ -26,9 +26,10 @@ class WestonServer {
 public:
     [[nodiscard]] static bool installed() { return std::system("command -v weston >/dev/null 2>&1") == 0; }
 
-    // Starts weston with one `width` x `height` output; socket() is empty when it could not be
+    // Starts weston with one `width` x `height` output, on its headless backend or, with
+    // `x11Display` (":N"), as a window on that X server; socket() is empty when it could not be
     // started (within 30 s).
-    explicit WestonServer(int width = 320, int height = 240)
+    explicit WestonServer(int width = 320, int height = 240, const std::string& x11Display = "")
     {
         char pattern[] = "/tmp/lumar-weston-XXXXXX";
         if (!::mkdtemp(pattern))
@@ -36,52 +37,34 @@ public:
         runtimeDir_ = pattern;
         const std::string name = "wayland-lumar-test";
         std::vector<std::string> args{"weston",
-                                      "--backend=headless-backend.so",
                                       "--shell=kiosk-shell.so",
                                       "--socket=" + name,
                                       "--width=" + std::to_string(width),
                                       "--height=" + std::to_string(height),
                                       "--idle-time=0",
                                       "--no-config"};
-        std::vector<char*> argv;
-        for (auto& a : args)
-            argv.push_back(a.data());
-        argv.push_back(nullptr);
-        std::vector<std::string> environment{"XDG_RUNTIME_DIR=" + runtimeDir_};
-        for (char** e = environ; *e; ++e)
-            if (std::string_view(*e).rfind("XDG_RUNTIME_DIR=", 0) != 0 &&
-                std::string_view(*e).rfind("WAYLAND_", 0) != 0)
-                environment.emplace_back(*e);
-        std::vector<char*> envp;
-        for (auto& e : environment)
-            envp.push_back(e.data());
-        envp.push_back(nullptr);
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        const std::string log = runtimeDir_ + "/weston.log";
-        posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_APPEND, 0600);
-        const int rc = posix_spawnp(&pid_, "weston", &actions, nullptr, argv.data(), envp.data());
-        posix_spawn_file_actions_destroy(&actions);
-        if (rc != 0) {
-            pid_ = -1;
-            return;
+        std::vector<std::string> added{"XDG_RUNTIME_DIR=" + runtimeDir_};
+        if (x11Display.empty()) {
+            args.emplace_back("--backend=headless-backend.so");
+        } else {
+            // pixman: the window holds the clients' pixels as they are, no GL in between.
+            args.insert(args.end(), {"--backend=x11-backend.so", "--use-pixman"});
+            added.push_back("DISPLAY=" + x11Display);
         }
+        if (!child_.start(args, environmentWith(added, {"XDG_RUNTIME_DIR=", "WAYLAND_", "DISPLAY="}),
+                          runtimeDir_ + "/weston.log"))
+            return;
         // The socket appears once weston accepts clients.
         const std::string path = runtimeDir_ + "/" + name;
-        for (int i = 0; i < 600; ++i) {
-            struct stat st {};
-            if (::stat(path.c_str(), &st) == 0 && S_ISSOCK(st.st_mode)) {
-                socket_ = path;
-                name_ = name;
-                break;
-            }
-            int status = 0;
-            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-                pid_ = -1;
-                break;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        const bool ready = waitUntil(
+            [&] {
+                struct stat st {};
+                return (::stat(path.c_str(), &st) == 0 && S_ISSOCK(st.st_mode)) || !child_.running();
+            },
+            std::chrono::seconds(30));
+        if (ready && child_.running()) {
+            socket_ = path;
+            name_ = name;
         }
     }
     ~WestonServer()
@@ -100,19 +83,13 @@ public:
     // For a child process: XDG_RUNTIME_DIR and WAYLAND_DISPLAY.
     [[nodiscard]] const std::string& runtimeDir() const { return runtimeDir_; }
     [[nodiscard]] const std::string& name() const { return name_; }
+    // The title of weston's output window on the X11 backend (the first output's).
+    [[nodiscard]] static std::string x11WindowTitle() { return "Weston Compositor - screen0"; }
 
-    void stop()
-    {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            int status = 0;
-            ::waitpid(pid_, &status, 0);
-        }
-        pid_ = -1;
-    }
+    void stop() { child_.stop(); }
 
 private:
-    pid_t pid_ = -1;
+    ChildServer child_; // stopped before the runtime directory goes
     std::string runtimeDir_;
     std::string socket_;
     std::string name_;

@@ -23,6 +23,26 @@ extern "C" int ignoreError(Display*, XErrorEvent*)
     return 0;
 }
 
+// The window's _NET_WM_NAME (UTF-8), what clients that set no WM_NAME (weston's X11 backend)
+// are titled by.
+std::string netWmName(Display* display, Window window)
+{
+    Atom type = 0;
+    int format = 0;
+    unsigned long items = 0, after = 0;
+    unsigned char* data = nullptr;
+    std::string title;
+    if (XGetWindowProperty(display, window, XInternAtom(display, "_NET_WM_NAME", False), 0, 1024, False,
+                           XInternAtom(display, "UTF8_STRING", False), &type, &format, &items, &after,
+                           &data) == Success &&
+        data) {
+        if (format == 8)
+            title.assign(reinterpret_cast<const char*>(data), items);
+        XFree(data);
+    }
+    return title;
+}
+
 } // namespace
 
 X11Viewer::X11Viewer(const std::string& displayName) : display_(XOpenDisplay(displayName.c_str())) {}
@@ -53,6 +73,8 @@ unsigned long X11Viewer::findWindow(const std::string& name) const
             if (name == title)
                 found = children[i];
             XFree(title);
+        } else if (name == netWmName(display, children[i])) {
+            found = children[i];
         }
     }
     if (children)
@@ -107,14 +129,18 @@ void X11Viewer::typeKey(unsigned long window, char c) const
 {
     Display* display = asDisplay(display_);
     XEvent event{};
-    event.xkey.type = KeyPress;
     event.xkey.display = display;
     event.xkey.window = Window(window);
     event.xkey.root = DefaultRootWindow(display);
     event.xkey.time = CurrentTime;
     event.xkey.same_screen = True;
     event.xkey.keycode = XKeysymToKeycode(display, KeySym(static_cast<unsigned char>(c)));
+    // Pressed and released: a compositor on X (weston's X11 backend) ignores a second press of
+    // a key it believes still held.
+    event.xkey.type = KeyPress;
     XSendEvent(display, Window(window), True, KeyPressMask, &event);
+    event.xkey.type = KeyRelease;
+    XSendEvent(display, Window(window), True, KeyReleaseMask, &event);
     XSync(display, False);
 }
 

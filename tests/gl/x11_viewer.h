@@ -24,7 +24,7 @@ public:
     // Asks the window to close as a window manager's close button does (WM_DELETE_WINDOW).
     void requestClose(unsigned long window) const;
     void resize(unsigned long window, int width, int height) const;
-    // Sends the window a key press of the Latin-1 character `c`, as typing it would.
+    // Sends the window a key press and release of the Latin-1 character `c`, as typing it would.
     void typeKey(unsigned long window, char c) const;
     void close();
 

@@ -1,16 +1,22 @@
-// The key o in `lumar run --preview`'s window, end to end under a private Xvfb: the window as
-// the X server holds it shows the headless frame (overlay off), then the setup view over it
-// (its status line's box in the top-left corner, the tag's outline and the tracker's search
-// windows), then the headless frame again after a second o. Each state is waited for as it
-// reaches the screen; nothing is timed.
+// The keys of `lumar run --preview`'s window, end to end under a private Xvfb, on X11 (lumar's
+// own X window) and on Wayland (a weston on its X11 backend inside the same Xvfb, its kiosk
+// shell showing lumar's window full-output and undecorated, so weston's X window holds exactly
+// the frame weston composited from lumar's buffer). Either way the frame is read back from the
+// X server, never from lumar: it shows the headless frame (overlay off, +-1), then after the key
+// o the setup view over it (its status line's box in the top-left corner, the tag's outline and
+// the tracker's search windows), then the headless frame again after a second o. The run then
+// ends with exit 0: on X11 by the window manager's close request; on Wayland by the key q,
+// since weston 10's shells have no way to send a toplevel its close request. Each state is
+// waited for as it reaches the screen; nothing is timed.
 #include <chrono>
 #include <fstream>
-#include <functional>
+#include <memory>
 #include <thread>
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include "gl/weston_server.h"
 #include "gl/x11_viewer.h"
 #include "gl/xvfb_server.h"
 #include "output/frame_writer.h"
@@ -22,28 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kWidth = 320, kHeight = 240;
-
-bool waitFor(const std::function<bool()>& done, std::chrono::seconds limit)
-{
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > deadline)
-            return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return true;
-}
-
-// One camera image played over and over, a cube on its tag: every frame the same once the
-// tag is found.
-std::string stillScene()
-{
-    return "[camera]\nsource = \"images\"\npath = \"frames\"\n"
-           "[rendering]\nenvironment_maps = \"off\"\n"
-           "[environment]\nmatch_exposure = false\n"
-           "[[markers]]\nid = 0\nsize = 0.16\n"
-           "[[objects]]\nname = \"cube\"\nmodel = \"builtin:cube\"\nmarker = 0\nsize = 0.08\n";
-}
 
 int worstDifference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
 {
@@ -86,35 +70,43 @@ int cyanAdded(const std::vector<uint8_t>& shown, const std::vector<uint8_t>& hea
     return n;
 }
 
-TEST(OverlayKey, TheKeyOTurnsTheSetupViewOnAndOffInThePreviewWindow)
+enum class Session { X11, Wayland };
+
+class OverlayKey : public ::testing::TestWithParam<Session> {};
+
+TEST_P(OverlayKey, TheKeyOTurnsTheSetupViewOnAndOffInThePreviewWindow)
 {
-    if (std::system("command -v Xvfb >/dev/null 2>&1") != 0)
+    const bool wayland = GetParam() == Session::Wayland;
+    if (!test::XvfbServer::installed())
         GTEST_SKIP() << "Xvfb is not installed (apt-get install xvfb)";
+    if (wayland && !test::WestonServer::installed())
+        GTEST_SKIP() << "weston is not installed (apt-get install weston)";
     test::XvfbServer server;
     ASSERT_FALSE(server.display().empty()) << "Xvfb did not start";
     test::X11Viewer viewer(server.display());
     ASSERT_TRUE(viewer.connected());
+    // On Wayland, weston's output is the frame's size: the kiosk shell's full-output toplevel
+    // is then lumar's frame exactly, at the X window's origin.
+    std::unique_ptr<test::WestonServer> weston;
+    std::vector<std::string> environment{"DISPLAY=" + server.display()};
+    if (wayland) {
+        weston = std::make_unique<test::WestonServer>(kWidth, kHeight, server.display());
+        ASSERT_FALSE(weston->socket().empty()) << "weston did not start on its X11 backend";
+        environment = {"DISPLAY=", "WAYLAND_DISPLAY=" + weston->name(), "XDG_RUNTIME_DIR=" + weston->runtimeDir()};
+    }
 
-    const fs::path dir = test::scratchDirectory("overlay-key");
-    fs::create_directories(dir / "frames");
-    std::ofstream(dir / "camera.toml") << "[camera]\nwidth = " << kWidth << "\nheight = " << kHeight << "\n";
-    auto r = test::runLumar({"render", "--config", (dir / "camera.toml").string(), "--frames", "1", "--out",
-                             (dir / "frames" / "f.png").string()},
-                            dir);
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    std::ofstream(dir / "scene.toml") << stillScene();
-    r = test::runLumar({"render", "--config", (dir / "scene.toml").string(), "--frames", "5", "--out",
-                        (dir / "headless.png").string()},
-                       dir);
+    const fs::path dir = test::scratchDirectory(wayland ? "overlay-key-wayland" : "overlay-key");
+    const auto r = test::prepareStillScene(dir, kWidth, kHeight, test::stillScene());
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::vector<uint8_t> headless = readImage(dir / "headless.png", 3).data;
 
     const fs::path log = dir / "log.txt";
-    const pid_t pid = test::spawnLumar({"run", "--config", (dir / "scene.toml").string(), "--preview"}, log,
-                                       {"DISPLAY=" + server.display()});
+    const pid_t pid =
+        test::spawnLumar({"run", "--config", (dir / "scene.toml").string(), "--preview"}, log, environment);
     ASSERT_GT(pid, 0);
+    const std::string title = wayland ? test::WestonServer::x11WindowTitle() : "lumar";
     unsigned long window = 0;
-    ASSERT_TRUE(waitFor([&] { return (window = viewer.findWindow("lumar")) != 0; }, std::chrono::seconds(60)))
+    ASSERT_TRUE(test::waitUntil([&] { return (window = viewer.findWindow(title)) != 0; }, std::chrono::seconds(60)))
         << test::readText(log);
     std::vector<uint8_t> shown;
     const auto grab = [&] {
@@ -130,12 +122,21 @@ TEST(OverlayKey, TheKeyOTurnsTheSetupViewOnAndOffInThePreviewWindow)
     };
 
     // Off: the headless frame, once the tag is found.
-    ASSERT_TRUE(waitFor([&] { return worstDifference(grab(), headless) <= 1; }, std::chrono::seconds(60)))
-        << test::readText(log);
+    const bool first =
+        test::waitUntil([&] { return worstDifference(grab(), headless) <= 1; }, std::chrono::seconds(60));
+    if (!first)
+        saveShown("first.png");
+    ASSERT_TRUE(first) << "worst difference " << worstDifference(shown, headless) << "; see " << (dir / "first.png")
+                       << "\n"
+                       << test::readText(log);
+    if (wayland) {
+        EXPECT_NE(test::readText(log).find("on Wayland display " + weston->name()), std::string::npos)
+            << test::readText(log);
+    }
 
     // o: the status line's dark box top left, the tag's outline and the search windows.
     viewer.typeKey(window, 'o');
-    const bool on = waitFor(
+    const bool on = test::waitUntil(
         [&] {
             grab();
             return changedIn(shown, headless, 0, 0, kWidth / 2, 24) > 200 && cyanAdded(shown, headless) > 40;
@@ -147,20 +148,28 @@ TEST(OverlayKey, TheKeyOTurnsTheSetupViewOnAndOffInThePreviewWindow)
                     << cyanAdded(shown, headless) << "; see " << (dir / "on.png") << "\n"
                     << test::readText(log);
 
-    // o again: the headless frame once more, bit for bit within the window's ±1.
+    // o again: the headless frame once more, bit for bit within the window's +-1.
     viewer.typeKey(window, 'o');
-    const bool off = waitFor([&] { return worstDifference(grab(), headless) <= 1; }, std::chrono::seconds(60));
+    const bool off = test::waitUntil([&] { return worstDifference(grab(), headless) <= 1; }, std::chrono::seconds(60));
     if (!off)
         saveShown("off.png");
     ASSERT_TRUE(off) << "see " << (dir / "off.png") << "\n" << test::readText(log);
 
-    viewer.requestClose(window);
+    if (wayland)
+        viewer.typeKey(window, 'q');
+    else
+        viewer.requestClose(window);
     int status = 0;
-    ASSERT_TRUE(waitFor([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)))
+    ASSERT_TRUE(test::waitUntil([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)))
         << test::readText(log);
     ASSERT_TRUE(WIFEXITED(status)) << test::readText(log);
     EXPECT_EQ(WEXITSTATUS(status), 0) << test::readText(log);
 }
+
+INSTANTIATE_TEST_SUITE_P(Sessions, OverlayKey, ::testing::Values(Session::X11, Session::Wayland),
+                         [](const ::testing::TestParamInfo<Session>& param) {
+                             return param.param == Session::X11 ? std::string("X11") : std::string("Wayland");
+                         });
 
 } // namespace
 } // namespace lumar

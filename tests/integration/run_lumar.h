@@ -58,7 +58,6 @@ inline ProcessResult runLumar(const std::vector<std::string>& args, const std::f
     return r;
 }
 
-// A fresh, empty directory for one test.
 // Starts lumar (LUMAR_BINARY) with stdout/stderr redirected to `log` and `extraEnvironment`
 // ("NAME=value") added to this process' environment; returns its pid, -1 when it could not.
 inline pid_t spawnLumar(const std::vector<std::string>& args, const std::filesystem::path& log,
@@ -86,12 +85,46 @@ inline pid_t spawnLumar(const std::vector<std::string>& args, const std::filesys
     return rc == 0 ? pid : -1;
 }
 
+// A fresh, empty directory for one test.
 inline std::filesystem::path scratchDirectory(const std::string& name)
 {
     const auto dir = std::filesystem::temp_directory_path() / ("lumar-test-" + name + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+// The preview window tests' scene (issue 21): one camera image played over and over by the
+// `images` source, a cube drawn on its tag, no state that changes from frame to frame once the
+// tag is found; `extra` is appended (a reload's edit).
+inline std::string stillScene(const std::string& extra = "")
+{
+    return "[camera]\nsource = \"images\"\npath = \"frames\"\n"
+           "[rendering]\nenvironment_maps = \"off\"\n"
+           "[environment]\nmatch_exposure = false\n"
+           "[[markers]]\nid = 0\nsize = 0.16\n"
+           "[[objects]]\nname = \"cube\"\nmodel = \"builtin:cube\"\nmarker = 0\nsize = 0.08\n" +
+           extra;
+}
+
+// Lays out `dir` for a still scene: frames/f.png, the one camera image (`lumar render` of the
+// fake camera at `width` x `height`), scene.toml holding `sceneText` (whose camera reads
+// frames/), and headless.png, the frame `lumar render` writes for that scene once the tag is
+// found: what a window showing the scene must show. Returns the first failed run, or the last.
+inline ProcessResult prepareStillScene(const std::filesystem::path& dir, int width, int height,
+                                       const std::string& sceneText)
+{
+    std::filesystem::create_directories(dir / "frames");
+    std::ofstream(dir / "camera.toml") << "[camera]\nwidth = " << width << "\nheight = " << height << "\n";
+    ProcessResult r = runLumar({"render", "--config", (dir / "camera.toml").string(), "--frames", "1", "--out",
+                                (dir / "frames" / "f.png").string()},
+                               dir);
+    if (r.exitCode != 0)
+        return r;
+    std::ofstream(dir / "scene.toml") << sceneText;
+    return runLumar({"render", "--config", (dir / "scene.toml").string(), "--frames", "5", "--out",
+                     (dir / "headless.png").string()},
+                    dir);
 }
 
 } // namespace lumar::test

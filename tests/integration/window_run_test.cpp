@@ -2,9 +2,7 @@
 // window the X server holds shows the frame `lumar render` writes for the same scene (+-1),
 // a reload keeps that window, closing it ends the run with exit 0; without a display server
 // the run says so in one line and writes the headless output instead.
-#include <chrono>
 #include <fstream>
-#include <functional>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -22,17 +20,6 @@ namespace fs = std::filesystem;
 
 constexpr int kWidth = 320, kHeight = 240;
 
-bool waitFor(const std::function<bool()>& done, std::chrono::seconds limit)
-{
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > deadline)
-            return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return true;
-}
-
 int countOf(const std::string& text, const std::string& what)
 {
     int n = 0;
@@ -41,21 +28,9 @@ int countOf(const std::string& text, const std::string& what)
     return n;
 }
 
-// A still scene: one camera image played over and over (the fake camera moves), a cube
-// drawn on its tag, no state that changes from frame to frame once the tag is found.
-std::string stillScene(const std::string& extra = "")
-{
-    return "[camera]\nsource = \"images\"\npath = \"frames\"\n"
-           "[rendering]\nenvironment_maps = \"off\"\n"
-           "[environment]\nmatch_exposure = false\n"
-           "[[markers]]\nid = 0\nsize = 0.16\n"
-           "[[objects]]\nname = \"cube\"\nmodel = \"builtin:cube\"\nmarker = 0\nsize = 0.08\n" +
-           extra;
-}
-
 TEST(WindowRun, TheWindowShowsTheHeadlessFrameKeepsItOnReloadAndClosingEndsTheRun)
 {
-    if (std::system("command -v Xvfb >/dev/null 2>&1") != 0)
+    if (!test::XvfbServer::installed())
         GTEST_SKIP() << "Xvfb is not installed (apt-get install xvfb)";
     test::XvfbServer server;
     ASSERT_FALSE(server.display().empty()) << "Xvfb did not start";
@@ -63,16 +38,7 @@ TEST(WindowRun, TheWindowShowsTheHeadlessFrameKeepsItOnReloadAndClosingEndsTheRu
     ASSERT_TRUE(viewer.connected());
 
     const fs::path dir = test::scratchDirectory("window-run");
-    fs::create_directories(dir / "frames");
-    std::ofstream(dir / "camera.toml") << "[camera]\nwidth = " << kWidth << "\nheight = " << kHeight << "\n";
-    auto r = test::runLumar({"render", "--config", (dir / "camera.toml").string(), "--frames", "1", "--out",
-                             (dir / "frames" / "f.png").string()},
-                            dir);
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    std::ofstream(dir / "scene.toml") << stillScene();
-    r = test::runLumar({"render", "--config", (dir / "scene.toml").string(), "--frames", "5", "--out",
-                        (dir / "headless.png").string()},
-                       dir);
+    const auto r = test::prepareStillScene(dir, kWidth, kHeight, test::stillScene());
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const Image8 headless = readImage(dir / "headless.png", 3);
 
@@ -81,13 +47,13 @@ TEST(WindowRun, TheWindowShowsTheHeadlessFrameKeepsItOnReloadAndClosingEndsTheRu
                                        {"DISPLAY=" + server.display()});
     ASSERT_GT(pid, 0);
     unsigned long window = 0;
-    ASSERT_TRUE(waitFor([&] { return (window = viewer.findWindow("lumar")) != 0; }, std::chrono::seconds(60)))
+    ASSERT_TRUE(test::waitUntil([&] { return (window = viewer.findWindow("lumar")) != 0; }, std::chrono::seconds(60)))
         << test::readText(log);
     // The detection worker finds the tag within a few frames; from then on every frame is
     // the same. Compare until one matches (a slow machine may take a while to get there).
     int worst = 255;
     Image8 shownImage(kWidth, kHeight, 3);
-    waitFor(
+    test::waitUntil(
         [&] {
             const std::vector<uint8_t> shown = viewer.grab(window, kWidth, kHeight);
             if (shown.size() == shownImage.data.size())
@@ -107,16 +73,17 @@ TEST(WindowRun, TheWindowShowsTheHeadlessFrameKeepsItOnReloadAndClosingEndsTheRu
     // A reload keeps the window.
     {
         const fs::path partial = dir / "scene.toml.new";
-        std::ofstream(partial) << stillScene("[tracking]\nfilter = false\n");
+        std::ofstream(partial) << test::stillScene("[tracking]\nfilter = false\n");
         fs::rename(partial, dir / "scene.toml");
     }
-    ASSERT_TRUE(waitFor([&] { return countOf(test::readText(log), "reloaded") >= 1; }, std::chrono::seconds(60)))
+    ASSERT_TRUE(
+        test::waitUntil([&] { return countOf(test::readText(log), "reloaded") >= 1; }, std::chrono::seconds(60)))
         << test::readText(log);
     EXPECT_EQ(viewer.findWindow("lumar"), window);
 
     viewer.requestClose(window);
     int status = 0;
-    ASSERT_TRUE(waitFor([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)))
+    ASSERT_TRUE(test::waitUntil([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)))
         << test::readText(log);
     const std::string text = test::readText(log);
     ASSERT_TRUE(WIFEXITED(status)) << text;
@@ -139,7 +106,7 @@ TEST(WindowRun, WithoutADisplayServerItSaysSoOnceAndWritesTheHeadlessOutput)
 
 TEST(WindowRun, ADisplayThatGoesAwayEndsTheRunWithOneLine)
 {
-    if (std::system("command -v Xvfb >/dev/null 2>&1") != 0)
+    if (!test::XvfbServer::installed())
         GTEST_SKIP() << "Xvfb is not installed (apt-get install xvfb)";
     test::XvfbServer server;
     ASSERT_FALSE(server.display().empty());
@@ -153,16 +120,16 @@ TEST(WindowRun, ADisplayThatGoesAwayEndsTheRunWithOneLine)
     ASSERT_GT(pid, 0);
     // The display goes away while lumar runs, once its window and EGL surface are made (Mesa's
     // EGL crashes when the server dies inside eglCreateWindowSurface: not a case this covers).
-    ASSERT_TRUE(waitFor([&] { return viewer.findWindow("lumar") != 0; }, std::chrono::seconds(60)))
+    ASSERT_TRUE(test::waitUntil([&] { return viewer.findWindow("lumar") != 0; }, std::chrono::seconds(60)))
         << test::readText(log);
-    ASSERT_TRUE(waitFor([&] { return test::readText(log).find("preview window ") != std::string::npos; },
-                        std::chrono::seconds(60)))
+    ASSERT_TRUE(test::waitUntil([&] { return test::readText(log).find("preview window ") != std::string::npos; },
+                                std::chrono::seconds(60)))
         << test::readText(log);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     viewer.close();
     server.stop();
     int status = 0;
-    ASSERT_TRUE(waitFor([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)));
+    ASSERT_TRUE(test::waitUntil([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, std::chrono::seconds(30)));
     const std::string text = test::readText(log);
     ASSERT_TRUE(WIFEXITED(status)) << "crashed\n" << text;
     EXPECT_EQ(WEXITSTATUS(status), 1) << text;

@@ -1,7 +1,10 @@
 // The preview window's cost per frame: SceneRenderer::present() into an X11 window through
 // EGL's window surface (blit, eglSwapBuffers, one X round trip) and through MIT-SHM (read back
 // into the shared image, XShmPutImage, one round trip), against readback() (what the headless
-// sink pays), at 1280x720 on a private Xvfb. Interleaved rounds, medians. Not a test.
+// sink pays), at 1280x720 on a private Xvfb; with Wayland built in and weston installed, also
+// into a Wayland window on weston's X11 backend in the same Xvfb (shared memory: read back
+// into a wl_shm buffer, attach, commit, one round trip). Interleaved rounds, medians. Not a
+// test.
 //
 //   build/tests/tools/window_present_bench [rounds] [frames]   (defaults 5 rounds of 60 frames)
 #include <algorithm>
@@ -12,9 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "gl/weston_server.h"
 #include "gl/xvfb_server.h"
 #include "gles_renderer/scene/scene_renderer.h"
 #include "gles_renderer/window/x11_window.h"
+#if LUMAR_HAVE_WAYLAND
+#include "gles_renderer/window/wayland_window.h"
+#endif
 
 namespace {
 
@@ -50,6 +57,39 @@ Setup open(const std::string& display, lumar::X11Presentation presentation, cons
     return s;
 }
 
+#if LUMAR_HAVE_WAYLAND
+struct WaylandSetup {
+    std::unique_ptr<lumar::test::WestonServer> weston;
+    std::unique_ptr<lumar::WaylandWindow> window;
+    std::unique_ptr<lumar::SceneRenderer> renderer;
+};
+
+// A Wayland window on a weston of its own (X11 backend, pixman) in the X server `display`;
+// no window (and a line saying why) where that cannot be had.
+WaylandSetup openWayland(const std::string& display, lumar::WaylandPresentation presentation,
+                         const lumar::Image8& background, const lumar::CameraIntrinsics& k)
+{
+    WaylandSetup s;
+    s.weston = std::make_unique<lumar::test::WestonServer>(k.width, k.height, display);
+    std::string why = "weston did not start";
+    try {
+        if (!s.weston->socket().empty())
+            s.window = lumar::WaylandWindow::open(s.weston->socket(), "bench", k.width, k.height, why, presentation);
+    } catch (const std::exception& e) {
+        why = e.what();
+    }
+    if (!s.window) {
+        std::fprintf(stderr, "no Wayland window on weston (X11 backend): %s\n", why.c_str());
+        return s;
+    }
+    lumar::RenderOptions options;
+    options.display = s.window->eglDisplay();
+    s.renderer = lumar::SceneRenderer::create(k.width, k.height, options);
+    s.renderer->render(background, k, {});
+    return s;
+}
+#endif
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -79,6 +119,16 @@ int main(int argc, char** argv)
     Setup shm = open(server.display(), lumar::X11Presentation::SharedMemory, background, k);
     if (!shm.window->presentsFromMemory())
         std::fprintf(stderr, "MIT-SHM refused: the second column is the EGL swap too\n");
+#if LUMAR_HAVE_WAYLAND
+    // One weston each (an EGL swap waits for frame callbacks, which a window hidden behind
+    // another in the kiosk shell would not get); its output is the frame's size, so the kiosk
+    // shell's full-output window takes the frame as it is, no scaling.
+    WaylandSetup waylandShm, waylandSwap;
+    if (lumar::test::WestonServer::installed()) {
+        waylandShm = openWayland(server.display(), lumar::WaylandPresentation::SharedMemory, background, k);
+        waylandSwap = openWayland(server.display(), lumar::WaylandPresentation::EglSwap, background, k);
+    }
+#endif
 
     // The setup view of four tags (outline, axes, label each) and a status line, drawn before
     // the readback in the fourth column: its cost is that column less the third.
@@ -101,10 +151,18 @@ int main(int argc, char** argv)
                              3});
 
     using Clock = std::chrono::steady_clock;
-    std::vector<double> swapMs, shmMs, readbackMs, overlayMs;
+    std::vector<double> swapMs, shmMs, readbackMs, overlayMs, waylandShmMs, waylandSwapMs;
     lumar::Image8 out;
     for (int round = 0; round < rounds; ++round) {
-        for (int pass = 0; pass < 4; ++pass) {
+        for (int pass = 0; pass < 6; ++pass) {
+#if LUMAR_HAVE_WAYLAND
+            WaylandSetup& wayland = pass == 4 ? waylandShm : waylandSwap;
+            if (pass >= 4 && !wayland.window)
+                continue;
+#else
+            if (pass >= 4)
+                continue;
+#endif
             const auto start = Clock::now();
             for (int i = 0; i < frames; ++i) {
                 if (pass == 0)
@@ -113,18 +171,34 @@ int main(int argc, char** argv)
                     shm.renderer->present(*shm.window);
                 else if (pass == 2)
                     shm.renderer->readback(out);
-                else {
+                else if (pass == 3) {
                     shm.renderer->drawOverlay(overlay);
                     shm.renderer->readback(out);
                 }
+#if LUMAR_HAVE_WAYLAND
+                else
+                    wayland.renderer->present(*wayland.window);
+#endif
             }
             const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count() / frames;
-            (pass == 0 ? swapMs : pass == 1 ? shmMs : pass == 2 ? readbackMs : overlayMs).push_back(ms);
+            (pass == 0   ? swapMs
+             : pass == 1 ? shmMs
+             : pass == 2 ? readbackMs
+             : pass == 3 ? overlayMs
+             : pass == 4 ? waylandShmMs
+                         : waylandSwapMs)
+                .push_back(ms);
         }
     }
     std::printf("%dx%d, %d rounds of %d frames, medians per frame: EGL swap %.2f ms, MIT-SHM %.2f ms, headless "
                 "readback %.2f ms (swap/shm %.1fx); overlay + readback %.2f ms\n",
                 width, height, rounds, frames, median(swapMs), median(shmMs), median(readbackMs),
                 median(swapMs) / median(shmMs), median(overlayMs));
+    // Wayland's present() waits for weston to have taken the commit (a round trip), not for it
+    // to have composited and drawn it into its X window.
+    if (!waylandShmMs.empty())
+        std::printf("Wayland (weston 10, X11 backend, pixman): wl_shm %.2f ms per frame\n", median(waylandShmMs));
+    if (!waylandSwapMs.empty())
+        std::printf("Wayland (weston 10, X11 backend, pixman): EGL swap %.2f ms per frame\n", median(waylandSwapMs));
     return 0;
 }
