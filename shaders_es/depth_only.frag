@@ -12,6 +12,8 @@
 // mesh.frag (it uses 16, GLES 3's minimum). What it cannot show: coloured shadows (the
 // transmittance is the tint's mean), opacity finer than 1/16, and stacked layers compounding
 // (every layer keeps the same texels, so two 50% panes shadow as one).
+// ShadowPass links the cut-out variant twice: HAS_BASE_COLOR_TEXTURE 0 for materials without a
+// base colour texture (their alpha is the factor x vertex colour: no lookup, no uvs).
 precision mediump float;
 
 #ifdef ALPHA_CUTOUT
@@ -30,7 +32,12 @@ layout(std140) uniform Material {
     vec4 transmissionTint;    // rgb: tint x the volume's attenuation
 };
 
+#ifndef HAS_BASE_COLOR_TEXTURE
+#define HAS_BASE_COLOR_TEXTURE 1
+#endif
+#if HAS_BASE_COLOR_TEXTURE
 uniform sampler2D uBaseColor;
+#endif
 
 in highp vec2 vUv;
 in highp vec2 vUv1;
@@ -55,9 +62,13 @@ float opacity(float alpha)
 void main()
 {
 #ifdef ALPHA_CUTOUT
+#if HAS_BASE_COLOR_TEXTURE
     highp vec3 uv = vec3(uvTransforms[0].w > 0.5 ? vUv1 : vUv, 1.0);
     highp vec2 transformed = vec2(dot(uvTransforms[0].xyz, uv), dot(uvTransforms[1].xyz, uv));
     float alpha = baseColorFactor.a * texture(uBaseColor, transformed).a * vColor.a;
+#else
+    float alpha = baseColorFactor.a * vColor.a;
+#endif
     if (alphaUnlitOcclusion.x > 0.5 && alphaUnlitOcclusion.x < 1.5 && alpha < alphaUnlitOcclusion.y)
         discard;
     ivec2 cell = ivec2(gl_FragCoord.xy) & 3;

@@ -14,6 +14,7 @@
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/mesh_features.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/stage_timer.h"
 
@@ -144,13 +145,21 @@ void ShadowPass::linkDepthProgram()
     depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
     bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
     // glTF alphaMode MASK: the surface cut where mesh.frag cuts it; BLEND and transmission:
-    // dithered by their opacity (depth_only.frag).
-    cutoutProgram_ = linkProgram(kDepthOnlyProgram, "#define ALPHA_CUTOUT 1\n");
-    cutoutCameraFromMeshLocation_ = uniformLocation(cutoutProgram_, "uCameraFromMesh");
-    bindUniformBlock(cutoutProgram_, "Frame", kFrameBlockBinding);
-    bindUniformBlock(cutoutProgram_, "Material", kMaterialBlockBinding);
-    glUseProgram(cutoutProgram_.name());
-    glUniform1i(uniformLocation(cutoutProgram_, "uBaseColor"), GLint(kCutoutTextureUnit));
+    // dithered by their opacity (depth_only.frag). Without a base colour texture (the car's
+    // glass) the alpha is the factor alone: a variant without the lookup.
+    for (int textured = 0; textured < 2; ++textured) {
+        CutoutProgram& cutout = cutoutPrograms_[textured];
+        cutout.program =
+            linkProgram(kDepthOnlyProgram, textured ? "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 1\n"
+                                                    : "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 0\n");
+        cutout.cameraFromMesh = uniformLocation(cutout.program, "uCameraFromMesh");
+        bindUniformBlock(cutout.program, "Frame", kFrameBlockBinding);
+        bindUniformBlock(cutout.program, "Material", kMaterialBlockBinding);
+        if (textured) {
+            glUseProgram(cutout.program.name());
+            glUniform1i(uniformLocation(cutout.program, "uBaseColor"), GLint(kCutoutTextureUnit));
+        }
+    }
 }
 
 void ShadowPass::linkReceiverPrograms()
@@ -350,8 +359,18 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     // (their attribute arrays stay disabled), as in MeshPass.
     glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
     glVertexAttrib4f(5, 0.0f, 0.0f, 0.0f, 1.0f);
-    glActiveTexture(GL_TEXTURE0 + kCutoutTextureUnit);
-    const GlProgram* bound = &depthProgram_;
+    // Opaque casters first, all with the plain program: it discards nothing, so llvmpipe tests
+    // and writes depth before (instead of) shading, and one glUseProgram serves them all. Then
+    // the cut-out ones (MASK, BLEND, glass), whose discard leaves the depth write until after
+    // their shader: drawn last, their fragments behind an opaque caster fail the depth test
+    // before it runs, and the program changes once per kind rather than once per primitive.
+    // (Interleaved in draw order, the car scene's glass made its shadow pass 4.4 ms slower.)
+    struct Cutout {
+        const GpuPrimitive* primitive;
+        const GpuMaterial* material;
+        glm::mat4 cameraFromMesh;
+    };
+    std::vector<Cutout> cutouts;
     glUseProgram(depthProgram_.name());
     for (const DrawItem& item : items) {
         if (!isCaster(item))
@@ -366,20 +385,34 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
             const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];
             // MASK cut as mesh.frag cuts it; BLEND and glass let part of the light through.
-            const bool cutout = material.alphaMode != GltfAlphaMode::Opaque || material.transmissive;
-            const GlProgram* program = cutout ? &cutoutProgram_ : &depthProgram_;
-            if (bound != program) {
-                glUseProgram(program->name());
-                bound = program;
+            if (material.alphaMode != GltfAlphaMode::Opaque || material.transmissive) {
+                cutouts.push_back({&primitive, &material, cameraFromMesh});
+                continue;
             }
-            if (cutout) {
-                glBindBufferBase(GL_UNIFORM_BUFFER, kMaterialBlockBinding, material.uniforms.name());
-                glBindTexture(GL_TEXTURE_2D, material.baseColor);
-            }
-            glUniformMatrix4fv(cutout ? cutoutCameraFromMeshLocation_ : depthCameraFromMeshLocation_, 1, GL_FALSE,
-                               glm::value_ptr(cameraFromMesh));
+            glUniformMatrix4fv(depthCameraFromMeshLocation_, 1, GL_FALSE, glm::value_ptr(cameraFromMesh));
             glBindVertexArray(primitive.vertexArray.name());
             glDrawElements(GL_TRIANGLES, primitive.indexCount, primitive.indexType, nullptr);
+        }
+    }
+    if (!cutouts.empty()) {
+        const auto textured = [](const Cutout& c) {
+            return (c.material->features & mesh_feature::kBaseColorTexture) != 0;
+        };
+        std::stable_partition(cutouts.begin(), cutouts.end(), [&](const Cutout& c) { return !textured(c); });
+        glActiveTexture(GL_TEXTURE0 + kCutoutTextureUnit);
+        const CutoutProgram* bound = nullptr;
+        for (const Cutout& c : cutouts) {
+            const CutoutProgram& program = cutoutPrograms_[textured(c) ? 1 : 0];
+            if (bound != &program) {
+                glUseProgram(program.program.name());
+                bound = &program;
+            }
+            glBindBufferBase(GL_UNIFORM_BUFFER, kMaterialBlockBinding, c.material->uniforms.name());
+            if (textured(c))
+                glBindTexture(GL_TEXTURE_2D, c.material->baseColor);
+            glUniformMatrix4fv(program.cameraFromMesh, 1, GL_FALSE, glm::value_ptr(c.cameraFromMesh));
+            glBindVertexArray(c.primitive->vertexArray.name());
+            glDrawElements(GL_TRIANGLES, c.primitive->indexCount, c.primitive->indexType, nullptr);
         }
     }
     glBindVertexArray(0);
