@@ -17,20 +17,9 @@
 precision mediump float;
 
 #ifdef ALPHA_CUTOUT
-// mesh.frag's Material block (uniform_blocks.h), of which this reads the base colour factor,
-// the alpha mode and cutoff, the base colour's uv transform and what passes through.
-layout(std140) uniform Material {
-    vec4 baseColorFactor;
-    vec4 emissiveNormalScale;
-    vec4 metallicRoughness; // x: metallic factor, z: 1 = Lafortune parameters
-    vec4 specularFactor;
-    vec4 lobeFactor;
-    vec4 textureFlags;
-    vec4 alphaUnlitOcclusion; // x: alpha mode (0 opaque, 1 mask, 2 blend), y: alpha cutoff
-    vec4 uvTransforms[16];    // slot 0 (base colour): rows 0 and 1; row 0's w: 1 = TEXCOORD_1
-    vec4 transmission;        // x: factor (0: none), z: the dielectric F0
-    vec4 transmissionTint;    // rgb: tint x the volume's attenuation
-};
+// The Material block (material_block.glsl), of which this reads the base colour factor, the
+// alpha mode and cutoff, the base colour's uv transform and what passes through.
+#include "material_block.glsl"
 
 #ifndef HAS_BASE_COLOR_TEXTURE
 #define HAS_BASE_COLOR_TEXTURE 1
