@@ -42,6 +42,14 @@ struct GpuMaterial {
     bool transmissive = false;
 };
 
+// Whether what lies behind the material shows through it (alphaMode BLEND, or transmission:
+// glass): the mesh pass draws it after the opaque primitives, back to front, and the shadow
+// map lets part of the light through it.
+[[nodiscard]] inline bool isTransparent(const GpuMaterial& material)
+{
+    return material.alphaMode == GltfAlphaMode::Blend || material.transmissive;
+}
+
 struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};
     GlBuffer vertices;      // interleaved position, normal, uv, tangent

@@ -385,7 +385,7 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
             const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];
             // MASK cut as mesh.frag cuts it; BLEND and glass let part of the light through.
-            if (material.alphaMode != GltfAlphaMode::Opaque || material.transmissive) {
+            if (material.alphaMode == GltfAlphaMode::Mask || isTransparent(material)) {
                 cutouts.push_back({&primitive, &material, cameraFromMesh});
                 continue;
             }
