@@ -12,7 +12,9 @@
 // mesh.frag (it uses 16, GLES 3's minimum). What it cannot show: coloured shadows (the
 // transmittance is the tint's mean), opacity finer than 1/16, and stacked layers compounding
 // (every layer keeps the same texels, so two 50% panes shadow as one).
-// ShadowPass links the cut-out variant twice: HAS_BASE_COLOR_TEXTURE 0 for materials without a
+// Glass that is neither MASK nor BLEND has one opacity over its surface: ShadowPass keeps the
+// same texels of it through the map's stencil (shadow_dither_stencil.frag) with the plain
+// variant, which discards nothing. ShadowPass links the cut-out variant twice: HAS_BASE_COLOR_TEXTURE 0 for materials without a
 // base colour texture (their alpha is the factor x vertex colour: no lookup, no uvs).
 precision mediump float;
 
