@@ -12,25 +12,23 @@
 // mesh.frag (it uses 16, GLES 3's minimum). What it cannot show: coloured shadows (the
 // transmittance is the tint's mean), opacity finer than 1/16, and stacked layers compounding
 // (every layer keeps the same texels, so two 50% panes shadow as one).
+// Glass that is neither MASK nor BLEND has one opacity over its surface: ShadowPass keeps the
+// same texels of it through the map's stencil (shadow_dither_stencil.frag) with the plain
+// variant, which discards nothing. ShadowPass links the cut-out variant twice: HAS_BASE_COLOR_TEXTURE 0 for materials without a
+// base colour texture (their alpha is the factor x vertex colour: no lookup, no uvs).
 precision mediump float;
 
 #ifdef ALPHA_CUTOUT
-// mesh.frag's Material block (uniform_blocks.h), of which this reads the base colour factor,
-// the alpha mode and cutoff, the base colour's uv transform and what passes through.
-layout(std140) uniform Material {
-    vec4 baseColorFactor;
-    vec4 emissiveNormalScale;
-    vec4 metallicRoughness; // x: metallic factor, z: 1 = Lafortune parameters
-    vec4 specularFactor;
-    vec4 lobeFactor;
-    vec4 textureFlags;
-    vec4 alphaUnlitOcclusion; // x: alpha mode (0 opaque, 1 mask, 2 blend), y: alpha cutoff
-    vec4 uvTransforms[16];    // slot 0 (base colour): rows 0 and 1; row 0's w: 1 = TEXCOORD_1
-    vec4 transmission;        // x: factor (0: none), z: the dielectric F0
-    vec4 transmissionTint;    // rgb: tint x the volume's attenuation
-};
+// The Material block (material_block.glsl), of which this reads the base colour factor, the
+// alpha mode and cutoff, the base colour's uv transform and what passes through.
+#include "material_block.glsl"
 
+#ifndef HAS_BASE_COLOR_TEXTURE
+#define HAS_BASE_COLOR_TEXTURE 1
+#endif
+#if HAS_BASE_COLOR_TEXTURE
 uniform sampler2D uBaseColor;
+#endif
 
 in highp vec2 vUv;
 in highp vec2 vUv1;
@@ -55,9 +53,13 @@ float opacity(float alpha)
 void main()
 {
 #ifdef ALPHA_CUTOUT
+#if HAS_BASE_COLOR_TEXTURE
     highp vec3 uv = vec3(uvTransforms[0].w > 0.5 ? vUv1 : vUv, 1.0);
     highp vec2 transformed = vec2(dot(uvTransforms[0].xyz, uv), dot(uvTransforms[1].xyz, uv));
     float alpha = baseColorFactor.a * texture(uBaseColor, transformed).a * vColor.a;
+#else
+    float alpha = baseColorFactor.a * vColor.a;
+#endif
     if (alphaUnlitOcclusion.x > 0.5 && alphaUnlitOcclusion.x < 1.5 && alpha < alphaUnlitOcclusion.y)
         discard;
     ivec2 cell = ivec2(gl_FragCoord.xy) & 3;

@@ -32,14 +32,9 @@ layout(std140) uniform Frame {
     vec4 shadowParams;
 };
 
-layout(std140) uniform Material {
-    vec4 baseColorFactor; // the configured colour (linear albedo)
-    vec4 emissiveNormalScale;
-    vec4 metallicRoughness; // x: metallic, y: roughness, z: 1 = Lafortune, w: phi
-    vec4 specularFactor;
-    vec4 lobeFactor;
-    vec4 textureFlags;
-};
+// The phantom's material (its baseColorFactor: the configured colour, linear albedo); the
+// shared block, of which it reads the first members.
+#include "material_block.glsl"
 
 uniform mat4 uFrameCameraFromView;  // the view's (face's) frame to the frame camera's
 uniform mat4 uClipFromFrameCamera;  // the frame camera's projection (camera_projection.h)

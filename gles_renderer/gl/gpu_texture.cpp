@@ -86,11 +86,11 @@ GlTexture makeSolidTexture(uint8_t r, uint8_t g, uint8_t b, uint8_t a)
     return texture;
 }
 
-GlTexture makeDepthCompareTexture(int width, int height)
+GlTexture makeDepthCompareTexture(int width, int height, bool stencil)
 {
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, width, height);
+    glTexStorage2D(GL_TEXTURE_2D, 1, stencil ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24, width, height);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -36,7 +36,8 @@ GlTexture makeRenderTexture(GLenum format, int width, int height, GLenum filter,
 
 // A 24-bit depth texture read by comparison (a sampler2DShadow: texture() returns the share
 // of the 2 x 2 nearest texels whose depth is >= the reference, bilinearly weighted), clamped
-// at its edges: shadow maps, and the phantoms' depth as the camera sees them.
-GlTexture makeDepthCompareTexture(int width, int height);
+// at its edges: shadow maps, and the phantoms' depth as the camera sees them. With `stencil`,
+// DEPTH24_STENCIL8 (the shadow map's stencil holds its dither pattern).
+GlTexture makeDepthCompareTexture(int width, int height, bool stencil = false);
 
 } // namespace lumar

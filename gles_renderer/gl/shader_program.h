@@ -31,11 +31,12 @@ inline constexpr ProgramSources kPhantomReceiverDepthProgram{"phantom_receiver.v
 inline constexpr ProgramSources kPhantomReceiverDistanceProgram{"phantom_receiver.vert",
                                                                 "phantom_receiver_distance.frag"};
 inline constexpr ProgramSources kShadowApplyProgram{"phantom_receiver.vert", "shadow_apply.frag"};
-inline constexpr std::array<ProgramSources, 15> kAllPrograms{
-    kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,        kMeshProgram,
-    kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram,      kShReduceProgram,
-    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,        kPhantomReceiverDepthProgram,
-    kPhantomProgram,       kShadowApplyProgram,    kPhantomReceiverDistanceProgram};
+inline constexpr ProgramSources kShadowDitherStencilProgram{"fullscreen.vert", "shadow_dither_stencil.frag"};
+inline constexpr std::array<ProgramSources, 16> kAllPrograms{
+    kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,         kMeshProgram,
+    kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram,       kShReduceProgram,
+    kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,         kPhantomReceiverDepthProgram,
+    kPhantomProgram,       kShadowApplyProgram,    kPhantomReceiverDistanceProgram, kShadowDitherStencilProgram};
 // The environment built from the camera (linked by every renderer that builds one).
 inline constexpr ProgramSources kCameraEnvironmentAccumulateProgram{"fullscreen.vert",
                                                                     "camera_environment_accumulate.frag"};

@@ -1,5 +1,6 @@
 #include "gles_renderer/scene/gpu_model.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -175,6 +176,13 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
     material.occlusion = textureOr(m.occlusionTexture, defaults.white);
     material.transmission = textureOr(transmissive ? t.texture : -1, defaults.white);
     material.transmissive = transmissive;
+    if (transmissive) {
+        float through = block.transmission.x * (1.0f - block.transmission.z) *
+                        (block.transmissionTint.r + block.transmissionTint.g + block.transmissionTint.b) / 3.0f;
+        if (!m.hasLafortune)
+            through *= 1.0f - block.metallicRoughness.x;
+        material.shadowOpacity = 1.0f - std::clamp(through, 0.0f, 1.0f);
+    }
     material.doubleSided = m.doubleSided;
     material.alphaMode = m.alphaMode;
     const auto bit = [](bool on, uint32_t feature) { return on ? feature : 0U; };

@@ -40,7 +40,19 @@ struct GpuMaterial {
     GltfAlphaMode alphaMode = GltfAlphaMode::Opaque;
     // Light passes through (GltfTransmission): drawn with the Blend ones, after the opaque.
     bool transmissive = false;
+    // The share of the light a transmissive surface stops in the shadow map (depth_only.frag's
+    // opacity without the BLEND coverage): what it reflects (F0), what its tint absorbs, the
+    // metal share of a metallic-roughness material.
+    float shadowOpacity = 1.0f;
 };
+
+// Whether what lies behind the material shows through it (alphaMode BLEND, or transmission:
+// glass): the mesh pass draws it after the opaque primitives, back to front, and the shadow
+// map lets part of the light through it.
+[[nodiscard]] inline bool isTransparent(const GpuMaterial& material)
+{
+    return material.alphaMode == GltfAlphaMode::Blend || material.transmissive;
+}
 
 struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};

@@ -303,7 +303,7 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
         const GpuMaterial& material = model.materials[primitive.material];
         // Glass too: it shows what its maps hold behind it, and blended ones behind it must
         // already be drawn for the frame to be sorted.
-        if (blended != nullptr && (material.alphaMode == GltfAlphaMode::Blend || material.transmissive)) {
+        if (blended != nullptr && isTransparent(material)) {
             const glm::dvec4 centre =
                 item.cameraFromModel * primitive.modelFromMesh * glm::dvec4(glm::dvec3(primitive.centre), 1.0);
             blended->push_back({centre.z, itemIndex, &primitive});

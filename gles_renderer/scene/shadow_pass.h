@@ -121,12 +121,16 @@ private:
     GlFramebuffer framebuffer_;
     GlProgram depthProgram_;
     GLint depthCameraFromMeshLocation_ = -1;
-    // depth_only with ALPHA_CUTOUT, for MASK, BLEND and transmissive materials (cut out, and
-    // dithered by their opacity: translucent casters cast partial shadows); their base colour
-    // on this unit.
+    // depth_only with ALPHA_CUTOUT, for MASK and BLEND materials, transmissive or not (cut
+    // out, and dithered by their opacity: translucent casters cast partial shadows; other
+    // glass is dithered by the map's stencil, drawCasters); [1] reads the base
+    // colour texture (on this unit), [0] is for materials without one.
     static constexpr GLuint kCutoutTextureUnit = 0;
-    GlProgram cutoutProgram_;
-    GLint cutoutCameraFromMeshLocation_ = -1;
+    struct CutoutProgram {
+        GlProgram program;
+        GLint cameraFromMesh = -1;
+    };
+    CutoutProgram cutoutPrograms_[2];
     GlProgram receiverProgram_;
     GLint cameraFromMeshLocation_ = -1;
     GLint normalFromMeshLocation_ = -1;

@@ -1,4 +1,5 @@
-// C++ mirrors of the std140 uniform blocks in shaders_es/mesh.vert and mesh.frag. Every
+// C++ mirrors of the std140 uniform blocks in shaders_es/mesh.vert, mesh.frag and
+// material_block.glsl (the Material block every program that reads it includes). Every
 // member is a vec4 or a matrix of vec4 columns, so std140 adds no hidden padding; the
 // static_asserts pin the offsets the shaders rely on.
 #pragma once
@@ -46,7 +47,8 @@ static_assert(offsetof(FrameUniforms, lightIrradiance) == 208);
 static_assert(offsetof(FrameUniforms, shadowParams) == 224);
 static_assert(sizeof(FrameUniforms) == 240);
 
-// Per material: "uniform Material" in mesh.frag.
+// Per material: "uniform Material", declared once in shaders_es/material_block.glsl and
+// included by mesh.frag, phantom.frag and depth_only.frag (its cut-out variant).
 struct MaterialUniforms {
     // Metallic-roughness: the base colour; Lafortune: rho_d (rgb).
     glm::vec4 baseColorFactor{1.0f};
