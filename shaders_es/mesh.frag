@@ -154,7 +154,7 @@ vec3 encodeSrgb(vec3 c)
 // the atlas cells (cube_atlas.glsl).
 vec3 mapRadiance(sampler2D map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasFaceSize(map), 0.0), 0.0), MAPS_RGBM);
+    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasSize(map), 0.0), 0.0), MAPS_RGBM);
 }
 
 // The maps' weights (glossyBlend's two neighbours, the others 0) without branches: llvmpipe

@@ -70,7 +70,7 @@ const float kBorder = 0.01;
 
 vec3 mapRadiance(sampler2D map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasFaceSize(map), 0.0), 0.0), frameParams.z > 0.5);
+    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasSize(map), 0.0), 0.0), frameParams.z > 0.5);
 }
 
 vec3 environmentRadiance(vec3 d, float s)

@@ -123,7 +123,7 @@ void main()
     float visibility = shadowVisibilityWithCorners(shadowAt, corners);
     if (open == 1.0 && visibility == 1.0)
         discard;
-    vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, cubeAtlasUv(environmentFromCamera * n, cubeAtlasFaceSize(uDiffuseMap), 0.0), 0.0),
+    vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, cubeAtlasUv(environmentFromCamera * n, cubeAtlasSize(uDiffuseMap), 0.0), 0.0),
                                             frameParams.z > 0.5);
     vec3 light = min(lightIrradiance.rgb * max(nl, 0.0), environment);
     const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);

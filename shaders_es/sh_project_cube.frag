@@ -6,13 +6,13 @@ precision highp sampler2D;
 // Its base level moved to the mip level whose texels are about a sample's solid angle, read
 // without mipmapping (IblPipeline::readMirrorLevel).
 uniform sampler2D uEnvironment;
-uniform float uFaceSize; // px per face at that level
+uniform vec2 uAtlasSize; // px at that level
 
 #include "cube_atlas.glsl"
 
 vec3 radianceAt(vec3 d)
 {
-    return textureLod(uEnvironment, cubeAtlasUv(d, uFaceSize, 0.0), 0.0).rgb;
+    return textureLod(uEnvironment, cubeAtlasUv(d, uAtlasSize, 0.0), 0.0).rgb;
 }
 
 #include "sh_basis.glsl"

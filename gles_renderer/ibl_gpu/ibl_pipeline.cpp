@@ -56,7 +56,8 @@ GlTexture makeCubeAtlas(int size, int levels, bool rgbm)
 {
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
-    glTexStorage2D(GL_TEXTURE_2D, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, kAtlasColumns * size, kAtlasRows * size);
+    const glm::ivec2 extent = cubeAtlasSize(size);
+    glTexStorage2D(GL_TEXTURE_2D, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, extent.x, extent.y);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -163,7 +164,7 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     prefilterSampleCount_ = uniformLocation(phongPrefilter_, "uSampleCount");
     prefilterEnvironmentFromFace_ = uniformLocation(phongPrefilter_, "uEnvironmentFromFace");
     glUniform1i(uniformLocation(phongPrefilter_, "uRgbm"), rgbm_);
-    prefilterFaceSize_ = uniformLocation(phongPrefilter_, "uFaceSize");
+    prefilterAtlasSize_ = uniformLocation(phongPrefilter_, "uAtlasSize");
     glUseProgram(atlasCopy_.name());
     glUniform1i(uniformLocation(atlasCopy_, "uSource"), kSourceUnit);
 
@@ -191,7 +192,8 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
     mirrorLevels_ = std::clamp(int(std::ceil(std::max(shLod_, glossy2_.lod))) + 1, 1, fullChain);
     glUseProgram(shProject_.name());
-    glUniform1f(uniformLocation(shProject_, "uFaceSize"), float(settings_.mirrorSize >> mirrorLevel(shLod_)));
+    const glm::vec2 shSource = mirrorLevelSize(mirrorLevel(shLod_));
+    glUniform2f(uniformLocation(shProject_, "uAtlasSize"), shSource.x, shSource.y);
 
     // Sources of the sums are read from one mip level (bilinear): the LOD is chosen so a
     // texel is about a sample's solid angle, and blending two levels doubled the cost. The
@@ -216,8 +218,8 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // the mirror maps with a shared depth buffer, the derived maps colour only.
     mirrorAtlasDepth_ = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, mirrorAtlasDepth_.name());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kAtlasColumns * settings_.mirrorSize,
-                          kAtlasRows * settings_.mirrorSize);
+    const glm::ivec2 mirrorExtent = cubeAtlasSize(settings_.mirrorSize);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, mirrorExtent.x, mirrorExtent.y);
     mirrorAtlasFramebuffer_ = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, mirrorAtlasFramebuffer_.name());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, mirrorAtlasDepth_.name());
@@ -267,6 +269,11 @@ IblMaps IblPipeline::createMaps() const
     return maps;
 }
 
+glm::vec2 IblPipeline::mirrorLevelSize(int level) const
+{
+    return glm::vec2(glm::max(cubeAtlasSize(settings_.mirrorSize) >> level, glm::ivec2(1)));
+}
+
 int IblPipeline::mirrorLevel(float lod) const
 {
     // GLES 3.0 §3.8.10.4: LINEAR_MIPMAP_NEAREST reads the base level up to LOD 1/2, level
@@ -284,7 +291,8 @@ void IblPipeline::renderMirror(IblMaps& maps, const IblMaps* backdrop,
     glDepthMask(GL_TRUE);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(backdrop ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glViewport(0, 0, kAtlasColumns * size, kAtlasRows * size);
+    const glm::ivec2 extent = cubeAtlasSize(size);
+    glViewport(0, 0, extent.x, extent.y);
     if (backdrop) {
         // The backdrop's atlas has the same layout: one draw over the whole atlas copies
         // every face, binned into the same scene as the faces drawn over it.
@@ -449,22 +457,22 @@ void IblPipeline::projectSH(IblMaps& maps) const
 
 void IblPipeline::prefilter(IblMaps& maps) const
 {
-    // sourceSize: px per face of the level read.
-    const auto run = [&](const Prefilter& p, GLuint atlas, int size, int sourceSize) {
+    // source: the size of the atlas level read.
+    const auto run = [&](const Prefilter& p, GLuint atlas, int size, glm::vec2 source) {
         glBindBufferBase(GL_UNIFORM_BUFFER, kLobeSamplesBinding, p.samples.name());
         renderFaces(atlas, size, phongPrefilter_.name(), [&](int face) {
             const glm::mat3 m = environmentFromFace(face);
             glUniformMatrix3fv(prefilterEnvironmentFromFace_, 1, GL_FALSE, glm::value_ptr(m));
-            glUniform1f(prefilterFaceSize_, float(sourceSize));
+            glUniform2f(prefilterAtlasSize_, source.x, source.y);
             glUniform1i(prefilterSampleCount_, p.count);
         });
     };
     readMirrorLevel(maps, glossy2_.lod, [&] {
-        run(glossy2_, maps.glossy2.name(), settings_.glossy2Size, settings_.mirrorSize >> mirrorLevel(glossy2_.lod));
+        run(glossy2_, maps.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(mirrorLevel(glossy2_.lod)));
     });
     // glossy-2 has a single level: read as it is.
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.glossy2.name());
-    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size, settings_.glossy2Size);
+    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size, glm::vec2(cubeAtlasSize(settings_.glossy2Size)));
     maps.ready = true;
 }
 

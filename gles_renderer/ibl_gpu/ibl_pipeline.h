@@ -70,6 +70,8 @@ private:
     void renderFaces(GLuint atlas, int size, GLuint program, const std::function<void(int face)>& perFace) const;
     // The mirror level that LINEAR_MIPMAP_NEAREST would pick at `lod`.
     [[nodiscard]] int mirrorLevel(float lod) const;
+    // The size of that level of a mirror atlas.
+    [[nodiscard]] glm::vec2 mirrorLevelSize(int level) const;
     // Runs `pass` with maps.mirror bound to kSourceUnit, reading the single level
     // mirrorLevel(lod) (its faces mirrorSize >> level px).
     void readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const;
@@ -93,7 +95,7 @@ private:
     GlProgram phongPrefilter_;
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
-    GLint prefilterEnvironmentFromFace_ = -1, prefilterFaceSize_ = -1, prefilterSampleCount_ = -1;
+    GLint prefilterEnvironmentFromFace_ = -1, prefilterAtlasSize_ = -1, prefilterSampleCount_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
     GlTexture partialSums_; // RGBA32F rows x 9

@@ -4,7 +4,8 @@
 // at directions on and near every face's edges and corners and at random ones, at level 0
 // and at a mip level. Each face holds a constant of its own in red (10, 20, ... 60) and
 // gradients in green and blue: a texel of a neighbouring cell blended in moves red by at
-// least 10 times its weight.
+// least 10 times its weight; the texels of the cells that no face covers (cells are at least
+// 64 px wide) hold 1000.
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -31,13 +32,13 @@ constexpr int kColumns = 64;
 const char* kMain = R"(
 uniform sampler2D uDirections; // RGBA32F, xyz a direction
 uniform sampler2D uAtlas;      // RGBA16F cube atlas, two levels
-uniform float uFaceSize;
+uniform vec2 uAtlasSize;
 uniform float uLod;
 out vec4 fragColor;
 void main()
 {
     vec3 d = texelFetch(uDirections, ivec2(gl_FragCoord.xy), 0).xyz;
-    fragColor = textureLod(uAtlas, cubeAtlasUv(d, uFaceSize, uLod), uLod);
+    fragColor = textureLod(uAtlas, cubeAtlasUv(d, uAtlasSize, uLod), uLod);
 }
 )";
 
@@ -77,13 +78,14 @@ CubeMapF makeCube(int size, float levelOffset)
     return cube;
 }
 
-// The cube as one atlas level (RGBA floats, row 0 at t = 0).
-std::vector<float> atlasTexels(const CubeMapF& cube)
+// The cube as level `level` of the atlas of kFaceSize-px faces (RGBA floats, row 0 at t = 0).
+std::vector<float> atlasTexels(const CubeMapF& cube, int level)
 {
-    const int width = kAtlasColumns * cube.size;
-    std::vector<float> texels(size_t(width) * size_t(kAtlasRows * cube.size) * 4, 0.0f);
+    const glm::ivec2 extent = cubeAtlasSize(kFaceSize) >> level;
+    const int width = extent.x;
+    std::vector<float> texels(size_t(width) * size_t(extent.y) * 4, 1000.0f);
     for (int f = 0; f < 6; ++f) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(f, cube.size);
+        const glm::ivec2 origin = cubeAtlasCellOrigin(f, kFaceSize) >> level;
         for (int y = 0; y < cube.size; ++y)
             for (int x = 0; x < cube.size; ++x) {
                 float* t = &texels[(size_t(origin.y + y) * size_t(width) + size_t(origin.x + x)) * 4];
@@ -131,11 +133,13 @@ TEST(CubeAtlas, LookupMatchesTheCpuCubeLookupAndStaysInsideTheFace)
     const CubeMapF level0 = makeCube(kFaceSize, 0.0f), level1 = makeCube(kFaceSize / 2, 1.0f);
     GlTexture atlas = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, atlas.name());
-    glTexStorage2D(GL_TEXTURE_2D, 2, GL_RGBA16F, kAtlasColumns * kFaceSize, kAtlasRows * kFaceSize);
+    const glm::ivec2 extent = cubeAtlasSize(kFaceSize);
+    ASSERT_GT(extent.x, kAtlasColumns * kFaceSize) << "the cells are wider than the faces (a tile wide)";
+    glTexStorage2D(GL_TEXTURE_2D, 2, GL_RGBA16F, extent.x, extent.y);
     for (int level = 0; level < 2; ++level) {
         const CubeMapF& cube = level == 0 ? level0 : level1;
-        glTexSubImage2D(GL_TEXTURE_2D, level, 0, 0, kAtlasColumns * cube.size, kAtlasRows * cube.size, GL_RGBA,
-                        GL_FLOAT, atlasTexels(cube).data());
+        glTexSubImage2D(GL_TEXTURE_2D, level, 0, 0, extent.x >> level, extent.y >> level, GL_RGBA, GL_FLOAT,
+                        atlasTexels(cube, level).data());
     }
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -176,7 +180,7 @@ TEST(CubeAtlas, LookupMatchesTheCpuCubeLookupAndStaysInsideTheFace)
     glBindTexture(GL_TEXTURE_2D, atlas.name());
     glUniform1i(glGetUniformLocation(program.name(), "uDirections"), 0);
     glUniform1i(glGetUniformLocation(program.name(), "uAtlas"), 1);
-    glUniform1f(glGetUniformLocation(program.name(), "uFaceSize"), float(kFaceSize));
+    glUniform2f(glGetUniformLocation(program.name(), "uAtlasSize"), float(extent.x), float(extent.y));
     GlVertexArray vertexArray = GlVertexArray::create();
     glBindVertexArray(vertexArray.name());
 

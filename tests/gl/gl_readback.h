@@ -37,9 +37,10 @@ inline CubeMapF readCubeAtlas(GLuint atlas, int size, int level = 0)
 {
     CubeMapF out;
     out.size = std::max(1, size >> level);
-    const ImageF whole = readTexture2D(atlas, kAtlasColumns * out.size, kAtlasRows * out.size, GL_TEXTURE_2D, level);
+    const glm::ivec2 extent = glm::max(cubeAtlasSize(size) >> level, glm::ivec2(1));
+    const ImageF whole = readTexture2D(atlas, extent.x, extent.y, GL_TEXTURE_2D, level);
     for (int face = 0; face < 6; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, out.size);
+        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) >> level;
         ImageF image(out.size, out.size, 3);
         for (int y = 0; y < out.size; ++y)
             for (int x = 0; x < out.size; ++x)
@@ -54,7 +55,8 @@ inline CubeMapF readCubeAtlasRgbm(GLuint atlas, int size, int level = 0)
 {
     CubeMapF out;
     out.size = std::max(1, size >> level);
-    const int width = kAtlasColumns * out.size, height = kAtlasRows * out.size;
+    const glm::ivec2 extent = glm::max(cubeAtlasSize(size) >> level, glm::ivec2(1));
+    const int width = extent.x, height = extent.y;
     GlFramebuffer framebuffer = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, atlas, level);
@@ -62,7 +64,7 @@ inline CubeMapF readCubeAtlasRgbm(GLuint atlas, int size, int level = 0)
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     for (int face = 0; face < 6; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, out.size);
+        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) >> level;
         ImageF image(out.size, out.size, 3);
         for (int y = 0; y < out.size; ++y)
             for (int x = 0; x < out.size; ++x) {
