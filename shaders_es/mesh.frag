@@ -6,7 +6,6 @@
 // an environment map writes linear HDR radiance.
 precision highp float;
 precision highp sampler2D;
-precision highp samplerCube;
 precision highp sampler2DShadow;
 
 layout(std140) uniform Frame {
@@ -33,10 +32,10 @@ uniform sampler2D uEmissive;          // sRGB
 uniform sampler2D uSpecular;          // sRGB: rho_s (Lafortune)
 uniform sampler2D uLobe;              // linear: C_x, C_y, C_z, n multipliers (Lafortune)
 uniform sampler2D uTangentRotation;   // linear r: x the rotation factor
-uniform samplerCube uDiffuseMap;      // E / pi (the n = 1 Phong prefilter), environment frame
-uniform samplerCube uGlossy1Map;      // Phong prefilter, n = 8
-uniform samplerCube uGlossy2Map;      // Phong prefilter, n = 64
-uniform samplerCube uMirrorMap;       // the environment map itself
+uniform sampler2D uDiffuseMap;        // E / pi (the n = 1 Phong prefilter), environment frame
+uniform sampler2D uGlossy1Map;        // Phong prefilter, n = 8
+uniform sampler2D uGlossy2Map;        // Phong prefilter, n = 64
+uniform sampler2D uMirrorMap;         // the environment map itself
 uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
 uniform sampler2D uOcclusion;         // linear r: ambient occlusion
 uniform sampler2D uTransmission;      // linear r: x the transmission factor
@@ -106,6 +105,7 @@ layout(location = 0) out vec4 fragColor;
 layout(location = 1) out vec4 fragRadiance;
 
 #include "lafortune.glsl"
+#include "cube_atlas.glsl"
 #include "rgbm.glsl"
 #include "camera_response.glsl"
 #include "shadow.glsl"
@@ -133,10 +133,11 @@ vec3 encodeSrgb(vec3 c)
 }
 
 // Radiance of the environment around direction d (environment frame) for glossiness s.
-// Explicit LODs: the maps are small and implicit derivatives would blur across faces.
-vec3 mapRadiance(samplerCube map, vec3 d)
+// Explicit LODs: the maps are small, and implicit derivatives would jump at the borders of
+// the atlas cells (cube_atlas.glsl).
+vec3 mapRadiance(sampler2D map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, d, 0.0), MAPS_RGBM);
+    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasSize(map), 0.0), 0.0), MAPS_RGBM);
 }
 
 // The maps' weights (glossyBlend's two neighbours, the others 0) without branches: llvmpipe

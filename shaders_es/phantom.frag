@@ -18,7 +18,6 @@
 // the camera's uniforms then belong to this program alone.
 precision highp float;
 precision highp sampler2D;
-precision highp samplerCube;
 precision highp sampler2DShadow;
 
 layout(std140) uniform Frame {
@@ -41,10 +40,10 @@ uniform mat4 uClipFromFrameCamera;  // the frame camera's projection (camera_pro
 uniform float uInverseExposure;     // 1 / SceneRenderer::setExposure's scale
 uniform sampler2D uCameraImage;     // sRGB-encoded RGBA8, mipmapped, row 0 = image top
 uniform sampler2DShadow uCameraDepth; // the phantoms' depth as the frame camera sees them
-uniform samplerCube uDiffuseMap;
-uniform samplerCube uGlossy1Map;
-uniform samplerCube uGlossy2Map;
-uniform samplerCube uMirrorMap;
+uniform sampler2D uDiffuseMap;
+uniform sampler2D uGlossy1Map;
+uniform sampler2D uGlossy2Map;
+uniform sampler2D uMirrorMap;
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -54,6 +53,7 @@ in vec2 vUv;
 out vec4 fragColor;
 
 #include "lafortune.glsl"
+#include "cube_atlas.glsl"
 #include "rgbm.glsl"
 
 const float kMaxExponent = 4096.0;
@@ -63,9 +63,9 @@ const float kDielectricSpecular = 0.04;
 const float kGrazingCosine = 0.1;
 const float kBorder = 0.01;
 
-vec3 mapRadiance(samplerCube map, vec3 d)
+vec3 mapRadiance(sampler2D map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, d, 0.0), frameParams.z > 0.5);
+    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasSize(map), 0.0), 0.0), frameParams.z > 0.5);
 }
 
 vec3 environmentRadiance(vec3 d, float s)

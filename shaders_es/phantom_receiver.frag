@@ -14,7 +14,7 @@
 // ratio^(1/2.2). Where nothing darkens the surface the ratio is exactly 1 and the camera pixel
 // is unchanged.
 precision highp float;
-precision highp samplerCube;
+precision highp sampler2D;
 precision highp sampler2DShadow;
 
 layout(std140) uniform Frame {
@@ -29,7 +29,7 @@ layout(std140) uniform Frame {
     vec4 shadowParams;    // x: PCF radius (texels), y: 1 / map size, z: texel (metres), w: depth bias
 };
 
-uniform samplerCube uDiffuseMap; // E / pi of the real environment, environment frame
+uniform sampler2D uDiffuseMap; // E / pi of the real environment, environment frame
 uniform sampler2DShadow uShadowMap;
 
 // Contact occlusion: each virtual object as the ellipsoid of its bounding box's volume (the
@@ -49,6 +49,7 @@ in vec3 vNormal;
 
 out vec4 fragColor;
 
+#include "cube_atlas.glsl"
 #include "rgbm.glsl"
 #include "shadow.glsl"
 
@@ -122,7 +123,7 @@ void main()
     float visibility = shadowVisibilityWithCorners(shadowAt, corners);
     if (open == 1.0 && visibility == 1.0)
         discard;
-    vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, environmentFromCamera * n, 0.0),
+    vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, cubeAtlasUv(environmentFromCamera * n, cubeAtlasSize(uDiffuseMap), 0.0), 0.0),
                                             frameParams.z > 0.5);
     vec3 light = min(lightIrradiance.rgb * max(nl, 0.0), environment);
     const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);

@@ -6,10 +6,9 @@
 // sample's solid angle so no radiance falls between samples.
 precision highp float;
 precision highp sampler2D;
-precision highp samplerCube;
 
 uniform mat3 uEnvironmentFromFace;
-uniform samplerCube uEnvironment;
+uniform sampler2D uEnvironment; // a cube atlas (cube_atlas.glsl)
 // xyz around +z, w the normalised weight. A uniform block, not a texture: every fragment
 // reads the same entry k, a uniform load instead of a texture fetch in the inner loop.
 // 1024 entries: 16 KB, GLES 3.0's smallest GL_MAX_UNIFORM_BLOCK_SIZE.
@@ -17,12 +16,14 @@ layout(std140) uniform LobeSamples {
     vec4 uSamples[1024];
 };
 uniform int uSampleCount;
-uniform float uLod; // where uEnvironment is mipmapped (IblPipeline moves its base level there)
+// Its base level is the mip level to read (IblPipeline moves it there), uAtlasSize px.
+uniform vec2 uAtlasSize;
 uniform bool uRgbm; // source and face are RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
 out vec4 fragColor;
 
+#include "cube_atlas.glsl"
 #include "rgbm.glsl"
 
 void main()
@@ -34,7 +35,7 @@ void main()
     vec3 sum = vec3(0.0);
     for (int k = 0; k < uSampleCount; ++k) {
         vec4 s = uSamples[k];
-        sum += decodeMapTexel(textureLod(uEnvironment, t * s.x + b * s.y + r * s.z, uLod), uRgbm) * s.w;
+        sum += decodeMapTexel(textureLod(uEnvironment, cubeAtlasUv(t * s.x + b * s.y + r * s.z, uAtlasSize, 0.0), 0.0), uRgbm) * s.w;
     }
     fragColor = encodeMapTexel(sum, uRgbm);
 }

@@ -1,15 +1,18 @@
 #version 300 es
-// SH projection of a cube map (see sh_project.glsl).
+// SH projection of a cube map held as a 2D atlas (see sh_project.glsl, cube_atlas.glsl).
 precision highp float;
 precision highp sampler2D;
-precision highp samplerCube;
 
-uniform samplerCube uEnvironment;
-uniform float uLod; // the mip level whose texels are about a sample's solid angle
+// Its base level moved to the mip level whose texels are about a sample's solid angle, read
+// without mipmapping (IblPipeline::readMirrorLevel).
+uniform sampler2D uEnvironment;
+uniform vec2 uAtlasSize; // px at that level
+
+#include "cube_atlas.glsl"
 
 vec3 radianceAt(vec3 d)
 {
-    return textureLod(uEnvironment, d, uLod).rgb;
+    return textureLod(uEnvironment, cubeAtlasUv(d, uAtlasSize, 0.0), 0.0).rgb;
 }
 
 #include "sh_basis.glsl"

@@ -26,17 +26,19 @@ inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh
 inline constexpr ProgramSources kShReduceProgram{"fullscreen.vert", "sh_reduce.frag"};
 inline constexpr ProgramSources kDiffuseFromShProgram{"cube_face.vert", "diffuse_from_sh.frag"};
 inline constexpr ProgramSources kPhongPrefilterProgram{"cube_face.vert", "phong_prefilter.frag"};
+inline constexpr ProgramSources kAtlasCopyProgram{"fullscreen.vert", "atlas_copy.frag"};
 inline constexpr ProgramSources kPhantomReceiverProgram{"phantom_receiver.vert", "phantom_receiver.frag"};
 inline constexpr ProgramSources kPhantomReceiverDepthProgram{"phantom_receiver.vert", "depth_only.frag"};
 inline constexpr ProgramSources kPhantomReceiverDistanceProgram{"phantom_receiver.vert",
                                                                 "phantom_receiver_distance.frag"};
 inline constexpr ProgramSources kShadowApplyProgram{"phantom_receiver.vert", "shadow_apply.frag"};
 inline constexpr ProgramSources kShadowDitherStencilProgram{"fullscreen.vert", "shadow_dither_stencil.frag"};
-inline constexpr std::array<ProgramSources, 16> kAllPrograms{
+inline constexpr std::array<ProgramSources, 17> kAllPrograms{
     kDepthOnlyProgram,     kBackgroundProgram,     kBackgroundYcbcrProgram,         kMeshProgram,
     kSkyboxProgram,        kShProjectProgram,      kShProjectEquirectProgram,       kShReduceProgram,
     kDiffuseFromShProgram, kPhongPrefilterProgram, kPhantomReceiverProgram,         kPhantomReceiverDepthProgram,
-    kPhantomProgram,       kShadowApplyProgram,    kPhantomReceiverDistanceProgram, kShadowDitherStencilProgram};
+    kPhantomProgram,       kShadowApplyProgram,    kPhantomReceiverDistanceProgram, kShadowDitherStencilProgram,
+    kAtlasCopyProgram};
 // The environment built from the camera (linked by every renderer that builds one).
 inline constexpr ProgramSources kCameraEnvironmentAccumulateProgram{"fullscreen.vert",
                                                                     "camera_environment_accumulate.frag"};

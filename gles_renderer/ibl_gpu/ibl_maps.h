@@ -5,6 +5,8 @@
 // environment alone owns another, used by objects whose own maps are not ready.
 #pragma once
 
+#include <glm/glm.hpp>
+
 #include "gles_renderer/gl/gl_object.h"
 
 namespace lumar {
@@ -32,12 +34,42 @@ struct IblSettings {
     float glossy2Exponent = 64.0f;
 };
 
+// The cube maps are 2D atlases (shaders_es/cube_atlas.glsl samples them): face f of a map
+// with faces of `size` px is the size x size square at cubeAtlasCellOrigin(f, size) of a
+// kAtlasColumns x kAtlasRows grid of cells, its rows in GL cube-face order (row 0 at t = 0).
+// A cube texture would need a copy of each face out of the framebuffer it is rendered in,
+// and llvmpipe drains its rasteriser threads before every copy. (3 x 2 rather than a 6 x 1
+// row: within GLES 3.0's minimum texture size, 2048 px, up to 512-px faces.)
+constexpr int kAtlasColumns = 3;
+constexpr int kAtlasRows = 2;
+// llvmpipe bins a framebuffer in tiles of 64 px and shares whole tiles between its threads:
+// cells at least a tile wide put the faces of a small map in three tiles, not one, so both
+// threads draw them (16-px glossy faces in one tile took twice the time).
+constexpr int kAtlasMinCellWidth = 64;
+
+inline int cubeAtlasCellWidth(int size)
+{
+    return size > kAtlasMinCellWidth ? size : kAtlasMinCellWidth;
+}
+
+// Level 0's size of the atlas of a map with `size`-px faces.
+inline glm::ivec2 cubeAtlasSize(int size)
+{
+    return {kAtlasColumns * cubeAtlasCellWidth(size), kAtlasRows * size};
+}
+
+// Where face `face` starts at level 0 (at level L: shifted right by L).
+inline glm::ivec2 cubeAtlasCellOrigin(int face, int size)
+{
+    return {face % kAtlasColumns * cubeAtlasCellWidth(size), face / kAtlasColumns * size};
+}
+
 struct IblMaps {
-    // RGBA16F cubes; RGBA8 RGBM ones (shaders_es/rgbm.glsl) where the GLES implementation
-    // cannot render to a float format.
-    GlTexture mirror;       // RGBA16F cube, mipmapped
+    // RGBA16F cube atlases; RGBA8 RGBM ones (shaders_es/rgbm.glsl) where the GLES
+    // implementation cannot render to a float format.
+    GlTexture mirror;       // RGBA16F cube atlas, mipmapped (2 x 2 boxes stay inside their cells)
     GlTexture coefficients; // RGBA32F (or 16F) 1 x 9: the SH9 of the mirror map (rgb)
-    GlTexture diffuse;      // RGBA16F cubes
+    GlTexture diffuse;      // RGBA16F cube atlases, one level
     GlTexture glossy1;
     GlTexture glossy2;
     int mirrorLevels = 1;

@@ -35,13 +35,6 @@ constexpr int kMaxLobeSamples = 1024;
 constexpr float kLobeCutoff = 0.01f;
 // shaders_es/rgbm.glsl's range.
 constexpr float kRgbmRange = 16.0f;
-// llvmpipe bins a framebuffer in tiles of this many px and shares whole tiles between its
-// threads: an atlas cell of at least one tile per cube face spreads a pass over them.
-constexpr int kRasterTile = 64;
-// Atlas layout: 3 x 2 cells, one per cube face (a 6 x 1 row would pass GLES 3.0's minimum
-// texture size, 2048 px, at 512-px faces).
-constexpr int kAtlasColumns = 3;
-constexpr int kAtlasRows = 2;
 
 void checkSettings(const IblSettings& s)
 {
@@ -56,15 +49,19 @@ void checkSettings(const IblSettings& s)
         throw InputError("glossy prefilter needs 4..1024 samples and exponents 1 <= n1 < n2");
 }
 
-GlTexture makeCube(int size, int levels, bool rgbm)
+// A cube map of `size`-px faces as a 2D atlas (shaders_es/cube_atlas.glsl's layout): with
+// power-of-two faces every 2 x 2 box of a mip level lies inside one cell, so
+// glGenerateMipmap keeps the faces apart down to 1 px.
+GlTexture makeCubeAtlas(int size, int levels, bool rgbm)
 {
     GlTexture texture = GlTexture::create();
-    glBindTexture(GL_TEXTURE_CUBE_MAP, texture.name());
-    glTexStorage2D(GL_TEXTURE_CUBE_MAP, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, size, size);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, texture.name());
+    const glm::ivec2 extent = cubeAtlasSize(size);
+    glTexStorage2D(GL_TEXTURE_2D, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, extent.x, extent.y);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return texture;
 }
 
@@ -109,9 +106,10 @@ void bindTextureUnit(GLint unit, GLenum target, GLuint texture)
 } // namespace
 
 IblPipeline::IblPipeline(const IblSettings& settings)
-    : settings_(settings), skybox_(linkProgram(kSkyboxProgram)), shProject_(linkProgram(kShProjectProgram)),
-      shProjectEquirect_(linkProgram(kShProjectEquirectProgram)), shReduce_(linkProgram(kShReduceProgram)),
-      diffuseFromSH_(linkProgram(kDiffuseFromShProgram)), phongPrefilter_(linkProgram(kPhongPrefilterProgram))
+    : settings_(settings), skybox_(linkProgram(kSkyboxProgram)), atlasCopy_(linkProgram(kAtlasCopyProgram)),
+      shProject_(linkProgram(kShProjectProgram)), shProjectEquirect_(linkProgram(kShProjectEquirectProgram)),
+      shReduce_(linkProgram(kShReduceProgram)), diffuseFromSH_(linkProgram(kDiffuseFromShProgram)),
+      phongPrefilter_(linkProgram(kPhongPrefilterProgram))
 {
     checkSettings(settings_);
     // Core GLES 3.0 renders to no float format. EXT_color_buffer_float adds RGBA16F and
@@ -148,7 +146,6 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // (venice_sunset_1k.hdr: 0.54 % error against 0.95 % at the matched level; a smooth sky
     // loses a little band-2 detail, 0.42 % against 0.11 %).
     shLod_ = lodForSolidAngle(settings_.mirrorSize, 4.0f * kPi / float(samples)) + 0.5f;
-    glUniform1f(uniformLocation(shProject_, "uLod"), shLod_);
     glUseProgram(shProjectEquirect_.name());
     glUniform1i(uniformLocation(shProjectEquirect_, "uEnvironment"), kSourceUnit);
     glUniform1i(uniformLocation(shProjectEquirect_, "uSamples"), kSamplesUnit);
@@ -167,7 +164,9 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     prefilterSampleCount_ = uniformLocation(phongPrefilter_, "uSampleCount");
     prefilterEnvironmentFromFace_ = uniformLocation(phongPrefilter_, "uEnvironmentFromFace");
     glUniform1i(uniformLocation(phongPrefilter_, "uRgbm"), rgbm_);
-    prefilterLod_ = uniformLocation(phongPrefilter_, "uLod");
+    prefilterAtlasSize_ = uniformLocation(phongPrefilter_, "uAtlasSize");
+    glUseProgram(atlasCopy_.name());
+    glUniform1i(uniformLocation(atlasCopy_, "uSource"), kSourceUnit);
 
     // The SH sample set, rows x (N / rows) directions: row i is fragment i's share.
     // The spherical Fibonacci set: equal weights and, unlike a jittered grid, no clumps or
@@ -192,6 +191,9 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // face with a blit, 36 of them for a full 64-px chain.
     const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
     mirrorLevels_ = std::clamp(int(std::ceil(std::max(shLod_, glossy2_.lod))) + 1, 1, fullChain);
+    glUseProgram(shProject_.name());
+    const glm::vec2 shSource = mirrorLevelSize(mirrorLevel(shLod_));
+    glUniform2f(uniformLocation(shProject_, "uAtlasSize"), shSource.x, shSource.y);
 
     // Sources of the sums are read from one mip level (bilinear): the LOD is chosen so a
     // texel is about a sample's solid angle, and blending two levels doubled the cost. The
@@ -212,24 +214,16 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     plainFramebuffer_ = GlFramebuffer::create();
     readFramebuffer_ = GlFramebuffer::create();
 
-    // The atlases have the maps' format: copies between equal formats are plain memcpys
-    // in llvmpipe (a format conversion would be a draw, and a scene, of its own).
-    cellSize_ = std::max(
-        {kRasterTile, settings_.mirrorSize, settings_.diffuseSize, settings_.glossy1Size, settings_.glossy2Size});
-    const int atlasWidth = kAtlasColumns * cellSize_, atlasHeight = kAtlasRows * cellSize_;
-    const GLenum mapFormat = rgbm_ ? GL_RGBA8 : GL_RGBA16F;
-    mirrorAtlas_ = makeFloatTexture(atlasWidth, atlasHeight, nullptr, mapFormat);
-    derivedAtlas_ = makeFloatTexture(atlasWidth, atlasHeight, nullptr, mapFormat);
+    // Every map is its own atlas (cube_atlas.glsl), drawn through these two framebuffers:
+    // the mirror maps with a shared depth buffer, the derived maps colour only.
     mirrorAtlasDepth_ = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, mirrorAtlasDepth_.name());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, atlasWidth, atlasHeight);
+    const glm::ivec2 mirrorExtent = cubeAtlasSize(settings_.mirrorSize);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, mirrorExtent.x, mirrorExtent.y);
     mirrorAtlasFramebuffer_ = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, mirrorAtlasFramebuffer_.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, mirrorAtlas_.name(), 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, mirrorAtlasDepth_.name());
     derivedAtlasFramebuffer_ = GlFramebuffer::create();
-    glBindFramebuffer(GL_FRAMEBUFFER, derivedAtlasFramebuffer_.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, derivedAtlas_.name(), 0);
     checkGlError("creating the environment-map pipeline");
 }
 
@@ -264,58 +258,57 @@ IblMaps IblPipeline::createMaps() const
 {
     IblMaps maps;
     maps.mirrorLevels = mirrorLevels_;
-    maps.mirror = makeCube(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
+    maps.mirror = makeCubeAtlas(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
     // RGBM: the CPU writes the coefficients, sampling a float texture needs no extension.
     maps.coefficients =
         makeFloatTexture(1, 9, nullptr, rgbm_ ? (settings_.halfFloatOnly ? GL_RGBA16F : GL_RGBA32F) : sumFormat_);
-    maps.diffuse = makeCube(settings_.diffuseSize, 1, rgbm_);
-    maps.glossy1 = makeCube(settings_.glossy1Size, 1, rgbm_);
-    maps.glossy2 = makeCube(settings_.glossy2Size, 1, rgbm_);
+    maps.diffuse = makeCubeAtlas(settings_.diffuseSize, 1, rgbm_);
+    maps.glossy1 = makeCubeAtlas(settings_.glossy1Size, 1, rgbm_);
+    maps.glossy2 = makeCubeAtlas(settings_.glossy2Size, 1, rgbm_);
     checkGlError("allocating environment maps");
     return maps;
 }
 
-glm::ivec2 IblPipeline::cellOrigin(int face) const
+glm::vec2 IblPipeline::mirrorLevelSize(int level) const
 {
-    return glm::ivec2(face % kAtlasColumns, face / kAtlasColumns) * cellSize_;
+    return glm::vec2(glm::max(cubeAtlasSize(settings_.mirrorSize) >> level, glm::ivec2(1)));
 }
 
-void IblPipeline::copyAtlasToCube(GLuint framebuffer, int size, GLuint cube) const
+int IblPipeline::mirrorLevel(float lod) const
 {
-    // The first copy waits for the atlas's scene; the copies themselves are memcpys.
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, cube);
-    for (int face = 0; face < kCubeFaces; ++face) {
-        const glm::ivec2 origin = cellOrigin(face);
-        glCopyTexSubImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), 0, 0, 0, origin.x, origin.y, size, size);
-    }
+    // GLES 3.0 §3.8.10.4: LINEAR_MIPMAP_NEAREST reads the base level up to LOD 1/2, level
+    // ceil(lod + 1/2) - 1 above, clamped to the last level.
+    return lod <= 0.5f ? 0 : std::min(int(std::ceil(lod + 0.5f)) - 1, mirrorLevels_ - 1);
 }
 
 void IblPipeline::renderMirror(IblMaps& maps, const IblMaps* backdrop,
                                const std::function<void(int face)>& drawFace) const
 {
     const int size = settings_.mirrorSize;
-    // The backdrop first: a copy into the atlas once draws into it are pending would end
-    // the scene there.
-    if (backdrop) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, readFramebuffer_.name());
-        bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, mirrorAtlas_.name());
-        for (int face = 0; face < kCubeFaces; ++face) {
-            glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
-                                   GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), backdrop->mirror.name(), 0);
-            const glm::ivec2 origin = cellOrigin(face);
-            glCopyTexSubImage2D(GL_TEXTURE_2D, 0, origin.x, origin.y, 0, 0, size, size);
-        }
-    }
     glBindFramebuffer(GL_FRAMEBUFFER, mirrorAtlasFramebuffer_.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, maps.mirror.name(), 0);
     glDisable(GL_SCISSOR_TEST);
     glDepthMask(GL_TRUE);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(backdrop ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const glm::ivec2 extent = cubeAtlasSize(size);
+    glViewport(0, 0, extent.x, extent.y);
+    if (backdrop) {
+        // The backdrop's atlas has the same layout: one draw over the whole atlas copies
+        // every face, binned into the same scene as the faces drawn over it.
+        glUseProgram(atlasCopy_.name());
+        bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, backdrop->mirror.name());
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_CULL_FACE);
+        glDisable(GL_BLEND);
+        glDepthMask(GL_FALSE);
+        drawFullscreenTriangle();
+        glDepthMask(GL_TRUE);
+    }
     // The scissor keeps every face in its cell whatever the rasteriser's guard band lets through.
     glEnable(GL_SCISSOR_TEST);
     for (int face = 0; face < kCubeFaces; ++face) {
-        const glm::ivec2 origin = cellOrigin(face);
+        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
         glViewport(origin.x, origin.y, size, size);
         glScissor(origin.x, origin.y, size, size);
         drawFace(face);
@@ -324,11 +317,9 @@ void IblPipeline::renderMirror(IblMaps& maps, const IblMaps* backdrop,
     // Nothing reads the depth buffer after the faces are drawn.
     const GLenum depth = GL_DEPTH_ATTACHMENT;
     glInvalidateFramebuffer(GL_FRAMEBUFFER, 1, &depth);
-    copyAtlasToCube(mirrorAtlasFramebuffer_.name(), size, maps.mirror.name());
-    // glGenerateMipmap's blits (a scene per level and face) measured cheaper here than one
-    // box-filter pass over the atlas: 0.23 against 0.78 ms of CPU per map, single-threaded.
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
-    glGenerateMipmap(GL_TEXTURE_CUBE_MAP);
+    // One 2 x 2 box blit per level for all six faces (the cells stay apart, makeCubeAtlas).
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.mirror.name());
+    glGenerateMipmap(GL_TEXTURE_2D);
 }
 
 void IblPipeline::drawSkybox(int face, GLuint equirect, int equirectWidth, float intensity) const
@@ -347,23 +338,24 @@ void IblPipeline::drawSkybox(int face, GLuint equirect, int equirectWidth, float
     glDepthMask(GL_TRUE);
 }
 
-void IblPipeline::renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const
+void IblPipeline::renderFaces(GLuint atlas, int size, GLuint program,
+                              const std::function<void(int face)>& perFace) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, derivedAtlasFramebuffer_.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, atlas, 0);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glUseProgram(program);
     glEnable(GL_SCISSOR_TEST);
     for (int face = 0; face < kCubeFaces; ++face) {
-        const glm::ivec2 origin = cellOrigin(face);
+        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
         glViewport(origin.x, origin.y, size, size);
         glScissor(origin.x, origin.y, size, size);
         perFace(face);
         drawFullscreenTriangle();
     }
     glDisable(GL_SCISSOR_TEST);
-    copyAtlasToCube(derivedAtlasFramebuffer_.name(), size, cube);
 }
 
 void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients) const
@@ -398,11 +390,11 @@ void IblPipeline::projectShOnCpu(IblMaps& maps) const
     cube.size = size;
     std::vector<uint8_t> texels(size_t(size) * size_t(size) * 4);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, readFramebuffer_.name());
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, maps.mirror.name(), 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     for (int face = 0; face < kCubeFaces; ++face) {
-        glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face),
-                               maps.mirror.name(), 0);
-        glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
+        glReadPixels(origin.x, origin.y, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
         ImageF& image = cube.faces[size_t(face)];
         image = ImageF(size, size, 3);
         for (size_t i = 0; i < size_t(size) * size_t(size); ++i) {
@@ -437,16 +429,13 @@ void IblPipeline::projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps&
 
 void IblPipeline::readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const
 {
-    // GLES 3.0 §3.8.10.4: LINEAR_MIPMAP_NEAREST reads the base level up to LOD 1/2, level
-    // ceil(lod + 1/2) - 1 above, clamped to the last level.
-    const int level = lod <= 0.5f ? 0 : std::min(int(std::ceil(lod + 0.5f)) - 1, maps.mirrorLevels - 1);
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_BASE_LEVEL, level);
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.mirror.name());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, mirrorLevel(lod));
     glBindSampler(GLuint(kSourceUnit), singleLevel_.name());
     pass();
     glBindSampler(GLuint(kSourceUnit), 0);
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.mirror.name());
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_BASE_LEVEL, 0);
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.mirror.name());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
 }
 
 void IblPipeline::projectSH(IblMaps& maps) const
@@ -468,19 +457,22 @@ void IblPipeline::projectSH(IblMaps& maps) const
 
 void IblPipeline::prefilter(IblMaps& maps) const
 {
-    const auto run = [&](const Prefilter& p, GLuint cube, int size) {
+    // source: the size of the atlas level read.
+    const auto run = [&](const Prefilter& p, GLuint atlas, int size, glm::vec2 source) {
         glBindBufferBase(GL_UNIFORM_BUFFER, kLobeSamplesBinding, p.samples.name());
-        renderFaces(cube, size, phongPrefilter_.name(), [&](int face) {
+        renderFaces(atlas, size, phongPrefilter_.name(), [&](int face) {
             const glm::mat3 m = environmentFromFace(face);
             glUniformMatrix3fv(prefilterEnvironmentFromFace_, 1, GL_FALSE, glm::value_ptr(m));
-            glUniform1f(prefilterLod_, p.lod);
+            glUniform2f(prefilterAtlasSize_, source.x, source.y);
             glUniform1i(prefilterSampleCount_, p.count);
         });
     };
-    readMirrorLevel(maps, glossy2_.lod, [&] { run(glossy2_, maps.glossy2.name(), settings_.glossy2Size); });
+    readMirrorLevel(maps, glossy2_.lod, [&] {
+        run(glossy2_, maps.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(mirrorLevel(glossy2_.lod)));
+    });
     // glossy-2 has a single level: read as it is.
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_CUBE_MAP, maps.glossy2.name());
-    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size);
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.glossy2.name());
+    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size, glm::vec2(cubeAtlasSize(settings_.glossy2Size)));
     maps.ready = true;
 }
 

@@ -30,18 +30,18 @@ public:
     [[nodiscard]] IblMaps createMaps() const;
 
     // Renders the six faces of maps.mirror: starts each face from `backdrop`'s mirror map
-    // (the same size; the real environment's, every object map's backdrop, a copy being
-    // cheaper than drawing the skybox again) or from black where it is null, clears depth,
-    // calls drawFace(face), then builds the mip levels. drawFace draws in the face camera of
-    // cube_face_camera.h; the viewport and the scissor box cover the face, and it must
-    // leave both, the framebuffer binding and the scissor test as they are.
+    // (the same size; the real environment's, every object map's backdrop, a texel copy
+    // being cheaper than drawing the skybox again) or from black where it is null, clears
+    // depth, calls drawFace(face), then builds the mip levels. drawFace draws in the face
+    // camera of cube_face_camera.h; the viewport and the scissor box cover the face, and it
+    // must leave both, the framebuffer binding and the scissor test as they are.
     //
-    // The faces are drawn side by side into one 2D atlas, then copied into the cube (as are
-    // the derived maps): llvmpipe rasterises what is drawn into one framebuffer as one
-    // "scene", and ending one costs its worker threads a wake-up and a barrier each, which
-    // for 64-px faces cost more than their pixels (38 scenes per map before, 18 now, 12 of
-    // them glGenerateMipmap's). Copies between textures of one format are memcpys there,
-    // and a face per 64-px tile lets both threads share the work.
+    // The faces are drawn side by side into the map's atlas (ibl_maps.h), as are the
+    // derived maps: llvmpipe rasterises what is drawn into one framebuffer as one "scene",
+    // and ending one costs its worker threads a wake-up and a barrier each, which for 64-px
+    // faces cost more than their pixels. Nothing is copied: a copy (glCopyTexSubImage2D)
+    // makes llvmpipe wait for its rasteriser threads and then copy on the calling thread,
+    // where a draw is only queued, so the next scene is binned while this one rasterises.
     void renderMirror(IblMaps& maps, const IblMaps* backdrop, const std::function<void(int face)>& drawFace) const;
 
     // Draws the equirectangular real environment (linear, mipmapped 2D texture of the given
@@ -65,16 +65,15 @@ private:
         float lod = 0.0f;
     };
     Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
-    // Draws the six size-px faces of `cube` with `program` into the derived-map atlas
-    // (perFace sets per-face uniforms), then copies them into the cube's level 0.
-    void renderFaces(GLuint cube, int size, GLuint program, const std::function<void(int face)>& perFace) const;
-    // Where face `face`'s cell starts in an atlas (both atlases share the layout).
-    [[nodiscard]] glm::ivec2 cellOrigin(int face) const;
-    // Copies the size-px square at cellOrigin(face) of the atlas behind `framebuffer` into
-    // level 0 of face `face` of `cube`, for every face.
-    void copyAtlasToCube(GLuint framebuffer, int size, GLuint cube) const;
-    // Runs `pass` with maps.mirror bound to kSourceUnit, reading the single level that
-    // LINEAR_MIPMAP_NEAREST would pick at `lod`.
+    // Draws the six size-px faces of the cube atlas `atlas` with `program` (perFace sets
+    // per-face uniforms).
+    void renderFaces(GLuint atlas, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+    // The mirror level that LINEAR_MIPMAP_NEAREST would pick at `lod`.
+    [[nodiscard]] int mirrorLevel(float lod) const;
+    // The size of that level of a mirror atlas.
+    [[nodiscard]] glm::vec2 mirrorLevelSize(int level) const;
+    // Runs `pass` with maps.mirror bound to kSourceUnit, reading the single level
+    // mirrorLevel(lod) (its faces mirrorSize >> level px).
     void readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const;
     // The RGBM fallback of projectSH's sums: on the CPU, over the decoded mirror map.
     void projectShOnCpu(IblMaps& maps) const;
@@ -87,6 +86,7 @@ private:
     int mirrorLevels_ = 1;
     std::vector<glm::vec3> shDirections_; // the SH sample set, for the CPU fallback
     GlProgram skybox_;
+    GlProgram atlasCopy_; // a backdrop's texels into a mirror atlas
     GlProgram shProject_;
     GlProgram shProjectEquirect_;
     GLint equirectLod_ = -1;
@@ -95,7 +95,7 @@ private:
     GlProgram phongPrefilter_;
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
-    GLint prefilterEnvironmentFromFace_ = -1, prefilterLod_ = -1, prefilterSampleCount_ = -1;
+    GLint prefilterEnvironmentFromFace_ = -1, prefilterAtlasSize_ = -1, prefilterSampleCount_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
     GlTexture partialSums_; // RGBA32F rows x 9
@@ -104,14 +104,11 @@ private:
     GlSampler singleLevel_;
     GlSampler nearestLevelWrapped_;
     GlFramebuffer plainFramebuffer_; // colour only: the SH sums
-    GlFramebuffer readFramebuffer_;  // a cube face as a copy's source
-    // Two atlases of 3 x 2 cells of max(64, largest map) px, one cell per cube face: the
-    // mirror faces (with depth), and the derived maps.
-    int cellSize_ = 64;
-    GlTexture mirrorAtlas_;
+    GlFramebuffer readFramebuffer_;  // the mirror atlas, read back (RGBM)
+    // Framebuffers the maps' atlases are attached to in turn: the mirror maps' (with a
+    // depth buffer shared by all of them) and the derived maps'.
     GlRenderbuffer mirrorAtlasDepth_;
     GlFramebuffer mirrorAtlasFramebuffer_;
-    GlTexture derivedAtlas_;
     GlFramebuffer derivedAtlasFramebuffer_;
 };
 

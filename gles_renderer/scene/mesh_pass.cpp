@@ -46,10 +46,10 @@ public:
         if (maps_ == maps)
             return;
         maps_ = maps;
-        bindTexture(MeshPass::kDiffuseMapUnit, maps->diffuse.name(), GL_TEXTURE_CUBE_MAP);
-        bindTexture(MeshPass::kGlossy1MapUnit, maps->glossy1.name(), GL_TEXTURE_CUBE_MAP);
-        bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name(), GL_TEXTURE_CUBE_MAP);
-        bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name(), GL_TEXTURE_CUBE_MAP);
+        bindTexture(MeshPass::kDiffuseMapUnit, maps->diffuse.name());
+        bindTexture(MeshPass::kGlossy1MapUnit, maps->glossy1.name());
+        bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name());
+        bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name());
     }
     // The mesh.frag variant in use (~0: another program is bound).
     uint32_t variantFeatures = ~0U;

@@ -637,7 +637,7 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
                 continue;
             if (with.bindsDiffuseMaps) {
                 glActiveTexture(GL_TEXTURE0 + MeshPass::kDiffuseMapUnit);
-                glBindTexture(GL_TEXTURE_CUBE_MAP, maps[i]->diffuse.name());
+                glBindTexture(GL_TEXTURE_2D, maps[i]->diffuse.name()); // a cube atlas
             }
             const GpuModel& model = models[size_t(item.model)];
             for (const GpuPrimitive& primitive : model.primitives) {

@@ -88,8 +88,8 @@ TEST(EnvironmentProbes, EachMapShowsTheOtherObjectsButNeverItsOwner)
     const IblSettings settings;
     ASSERT_NE(renderer.objectMaps(0), nullptr);
     ASSERT_NE(renderer.objectMaps(1), nullptr);
-    const CubeMapF sphereSees = test::readCube(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
-    const CubeMapF lampSees = test::readCube(renderer.objectMaps(1)->mirror.name(), settings.mirrorSize);
+    const CubeMapF sphereSees = test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
+    const CubeMapF lampSees = test::readCubeAtlas(renderer.objectMaps(1)->mirror.name(), settings.mirrorSize);
     // The environment frame is the camera's here (no rotation set): the lamp lies along +x
     // of the sphere. The sphere's map holds the lamp's emission (3.0) in its +X face.
     EXPECT_GT(maxOf(sphereSees.faces[0]).r, 2.5f);
@@ -252,8 +252,8 @@ struct FaceRig {
     }
     [[nodiscard]] CubeMapF read(const IblMaps& maps) const
     {
-        return pipeline.rgbm() ? test::readCubeRgbm(maps.mirror.name(), size)
-                               : test::readCube(maps.mirror.name(), size);
+        return pipeline.rgbm() ? test::readCubeAtlasRgbm(maps.mirror.name(), size)
+                               : test::readCubeAtlas(maps.mirror.name(), size);
     }
     [[nodiscard]] CubeMapF render(const std::vector<DrawItem>& cubeItems, MeshPass::Detail detail, double focalPixels)
     {
@@ -385,7 +385,7 @@ TEST(EnvironmentProbes, PhantomLayerIsReusedUntilThePhantomMoves)
     const auto sphereSees = [&] {
         renderer.render(background, intrinsics(), scene.items);
         EXPECT_NE(renderer.objectMaps(0), nullptr);
-        return test::readCube(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
+        return test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
     };
 
     const CubeMapF first = sphereSees(); // the phantom shaded directly (not yet seen still)

@@ -105,7 +105,7 @@ MapErrors measure(SceneRenderer& renderer, const ImageF& sky, const char* label,
     const IblMaps& maps = renderer.environmentMaps();
     const IblSettings settings; // the defaults the renderer uses
     const auto readCube = [&](const GlTexture& cube, int size) {
-        return rgbm ? test::readCubeRgbm(cube.name(), size) : test::readCube(cube.name(), size);
+        return rgbm ? test::readCubeAtlasRgbm(cube.name(), size) : test::readCubeAtlas(cube.name(), size);
     };
     const CubeMapF mirror = readCube(maps.mirror, settings.mirrorSize);
     const float scale = maxComponent(mirror);
@@ -211,9 +211,9 @@ TEST(IblMaps, MirrorMipLevelsAreBoxAveragesOfLevelZero)
         const IblMaps& maps = renderer.environmentMaps();
         const IblSettings& settings = options.environmentMaps.ibl;
         ASSERT_GT(maps.mirrorLevels, 1) << "the SH and glossy passes read coarser levels";
-        const CubeMapF base = test::readCube(maps.mirror.name(), settings.mirrorSize);
+        const CubeMapF base = test::readCubeAtlas(maps.mirror.name(), settings.mirrorSize);
         for (int level = 1; level < maps.mirrorLevels; ++level) {
-            const CubeMapF mip = test::readCube(maps.mirror.name(), settings.mirrorSize, level);
+            const CubeMapF mip = test::readCubeAtlas(maps.mirror.name(), settings.mirrorSize, level);
             const int f = 1 << level;
             float worst = 0.0f;
             for (int face = 0; face < 6; ++face)

@@ -1,0 +1,44 @@
+// Cube map lookups in a 2D atlas: the six faces of an environment map side by side in 3
+// columns x 2 rows of cells (face f at column f % 3, row f / 3, row 0 at t = 0), as
+// IblPipeline renders them (gles_renderer/ibl_gpu/ibl_maps.h). A cell is as high as a face
+// and at least 64 px wide (llvmpipe's tile: faces in tiles of their own are rasterised by
+// both threads), the face at its left; both sizes follow from the atlas's size. A cube
+// texture would need a copy of every face out of the atlas the faces are rendered in, and
+// llvmpipe drains its rasteriser threads before each copy; sampling the atlas needs none.
+//
+// Face selection and (s, t) are GLES 3.0's (§3.8.10, table 3.21), the major axis chosen
+// as gles_renderer/ibl/cube_map.h does (the first of x, y, z on ties), so images are those
+// of the cube texture. Unlike GLES 3.0's seamless cube filtering, the bilinear footprint
+// stays inside the face: (s, t) is clamped half a texel inside it, so no texel of a
+// neighbouring cell is read (cube_map.h's sampleCubeBilinear does the same on the CPU).
+
+// Atlas coordinates of direction d (need not be unit) in an atlas of atlasSize texels at
+// level 0 (textureSize(atlas, 0)), for a lookup at mip level lod (the clamp is half a
+// texel of that level). Mipmapped atlases have cells as wide as their faces.
+vec2 cubeAtlasUv(vec3 d, vec2 atlasSize, float lod)
+{
+    vec3 a = abs(d);
+    // Selects, not branches: llvmpipe runs every side of a branch.
+    bool xMajor = a.x >= a.y && a.x >= a.z;
+    bool yMajor = !xMajor && a.y >= a.z;
+    float ma = xMajor ? a.x : (yMajor ? a.y : a.z);
+    float positive = xMajor ? d.x : (yMajor ? d.y : d.z);
+    float face = (xMajor ? 0.0 : (yMajor ? 2.0 : 4.0)) + (positive > 0.0 ? 0.0 : 1.0);
+    float side = positive > 0.0 ? 1.0 : -1.0;
+    //   +X: (-z, -y)  -X: (+z, -y)  +Y: (x, +z)  -Y: (x, -z)  +Z: (+x, -y)  -Z: (-x, -y)
+    vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
+    vec2 st = sctc / (2.0 * ma) + 0.5;
+    float faceSize = atlasSize.y * 0.5;
+    float texels = max(faceSize * exp2(-lod), 1.0);
+    st = clamp(st, 0.5 / texels, 1.0 - 0.5 / texels);
+    float row = face > 2.5 ? 1.0 : 0.0;
+    vec2 cell = vec2(face - 3.0 * row, row);
+    // The face's share of its cell's width.
+    return (cell + st * vec2(faceSize * 3.0 / atlasSize.x, 1.0)) * vec2(1.0 / 3.0, 0.5);
+}
+
+// The size of an atlas's base level (the level a lookup at lod 0 reads).
+vec2 cubeAtlasSize(sampler2D atlas)
+{
+    return vec2(textureSize(atlas, 0));
+}
