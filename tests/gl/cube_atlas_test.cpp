@@ -22,6 +22,7 @@
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/ibl/cube_map.h"
 #include "gles_renderer/ibl_gpu/ibl_maps.h"
+#include "test_shader.h"
 
 namespace lumar {
 namespace {
@@ -41,22 +42,6 @@ void main()
     fragColor = textureLod(uAtlas, cubeAtlasUv(d, uAtlasSize, uLod), uLod);
 }
 )";
-
-GlShader compile(GLenum stage, const std::string& source)
-{
-    GlShader shader(glCreateShader(stage));
-    const char* text = source.c_str();
-    glShaderSource(shader.name(), 1, &text, nullptr);
-    glCompileShader(shader.name());
-    GLint ok = GL_FALSE;
-    glGetShaderiv(shader.name(), GL_COMPILE_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        char log[1024] = {};
-        glGetShaderInfoLog(shader.name(), sizeof log, nullptr, log);
-        ADD_FAILURE() << log;
-    }
-    return shader;
-}
 
 // Face f: red 10 (f + 1) (one more at level 1, so a lookup at the wrong level shows), green
 // and blue gradients across s and t (steps that half floats hold exactly).
@@ -159,8 +144,8 @@ TEST(CubeAtlas, LookupMatchesTheCpuCubeLookupAndStaysInsideTheFace)
     const std::string fragment = "#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n" +
                                  std::string(shaders::source("cube_atlas.glsl")) + kMain;
     GlProgram program = GlProgram::create();
-    const GlShader vs = compile(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
-    const GlShader fs = compile(GL_FRAGMENT_SHADER, fragment);
+    const GlShader vs = test::compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
+    const GlShader fs = test::compileTestShader(GL_FRAGMENT_SHADER, fragment);
     glAttachShader(program.name(), vs.name());
     glAttachShader(program.name(), fs.name());
     glLinkProgram(program.name());

@@ -16,6 +16,7 @@
 #include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/ibl/lafortune_shading.h"
+#include "test_shader.h"
 
 namespace lumar {
 namespace {
@@ -50,22 +51,6 @@ void main()
     outFresnel = vec4(s.fresnel, t);
 }
 )";
-
-GlShader compile(GLenum stage, const std::string& source)
-{
-    GlShader shader(glCreateShader(stage));
-    const char* text = source.c_str();
-    glShaderSource(shader.name(), 1, &text, nullptr);
-    glCompileShader(shader.name());
-    GLint ok = GL_FALSE;
-    glGetShaderiv(shader.name(), GL_COMPILE_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        char log[1024] = {};
-        glGetShaderInfoLog(shader.name(), sizeof log, nullptr, log);
-        ADD_FAILURE() << log;
-    }
-    return shader;
-}
 
 std::vector<Case> makeCases()
 {
@@ -123,8 +108,8 @@ TEST(LafortuneShader, MatchesTheCpuEvaluationOverAGridOfDirectionsAndParameters)
     const std::string fragment = "#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n" +
                                  std::string(shaders::source("lafortune.glsl")) + kMain;
     GlProgram program = GlProgram::create();
-    const GlShader vs = compile(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
-    const GlShader fs = compile(GL_FRAGMENT_SHADER, fragment);
+    const GlShader vs = test::compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
+    const GlShader fs = test::compileTestShader(GL_FRAGMENT_SHADER, fragment);
     glAttachShader(program.name(), vs.name());
     glAttachShader(program.name(), fs.name());
     glLinkProgram(program.name());

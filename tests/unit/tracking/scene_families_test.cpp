@@ -25,13 +25,7 @@ constexpr int kCellPx = 10;
 
 CameraIntrinsics camera()
 {
-    CameraIntrinsics k;
-    k.width = kWidth;
-    k.height = kHeight;
-    k.fx = k.fy = 300.0;
-    k.cx = (kWidth - 1) / 2.0;
-    k.cy = (kHeight - 1) / 2.0;
-    return k;
+    return test::pinholeCamera(kWidth, kHeight, 300.0);
 }
 
 // Tags `ids` side by side, 10 px per cell, the data cells at `flipped` (column, row inside

@@ -22,13 +22,7 @@ constexpr int kId = 3;
 
 CameraIntrinsics camera()
 {
-    CameraIntrinsics k;
-    k.width = kWidth;
-    k.height = kHeight;
-    k.fx = k.fy = 300.0;
-    k.cx = (kWidth - 1) / 2.0;
-    k.cy = (kHeight - 1) / 2.0;
-    return k;
+    return test::pinholeCamera(kWidth, kHeight, 300.0);
 }
 
 // Tag kId, 10 px per cell, with the data cells at `flipped` (column, row in 2..7: inside the

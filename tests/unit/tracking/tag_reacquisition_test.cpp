@@ -26,13 +26,7 @@ constexpr int kFullFrameEvery = 10;
 // A pinhole camera in which a 8 cm tag 0.5 m away, facing it, is 80 px wide: 10 px per cell.
 CameraIntrinsics camera()
 {
-    CameraIntrinsics k;
-    k.width = kWidth;
-    k.height = kHeight;
-    k.fx = k.fy = 500.0;
-    k.cx = (kWidth - 1) / 2.0;
-    k.cy = (kHeight - 1) / 2.0;
-    return k;
+    return test::pinholeCamera(kWidth, kHeight, 500.0);
 }
 
 struct PlacedTag {

@@ -27,6 +27,18 @@ inline double radians(double degrees)
     return degrees * kPi / 180.0;
 }
 
+// A pinhole camera without distortion, the principal point at the image's centre.
+inline CameraIntrinsics pinholeCamera(int width, int height, double focalPx)
+{
+    CameraIntrinsics k;
+    k.width = width;
+    k.height = height;
+    k.fx = k.fy = focalPx;
+    k.cx = (width - 1) / 2.0;
+    k.cy = (height - 1) / 2.0;
+    return k;
+}
+
 inline Image8 toImage8(const cv::Mat& gray)
 {
     Image8 image(gray.cols, gray.rows, 1);
