@@ -109,12 +109,7 @@ std::vector<glm::vec3> makeDirections()
 
 TEST(CubeAtlas, LookupMatchesTheCpuCubeLookupAndStaysInsideTheFace)
 {
-    std::optional<EglContext> context;
-    try {
-        context.emplace(EglDisplay::surfaceless());
-    } catch (const RuntimeError& e) {
-        GTEST_SKIP() << "no GLES 3 context: " << e.what();
-    }
+    LUMAR_CONTEXT_OR_SKIP(context);
     const CubeMapF level0 = makeCube(kFaceSize, 0.0f), level1 = makeCube(kFaceSize / 2, 1.0f);
     GlTexture atlas = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, atlas.name());

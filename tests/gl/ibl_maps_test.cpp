@@ -23,6 +23,7 @@
 #include "gles_renderer/ibl/sh_projection.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
+#include "test_shader.h"
 
 namespace lumar {
 namespace {
@@ -250,12 +251,7 @@ namespace {
 // integral of that map as well as the cube path does.
 TEST(IblMaps, TheSameProjectionReadsALatLongMap)
 {
-    std::optional<EglContext> context;
-    try {
-        context.emplace(EglDisplay::surfaceless());
-    } catch (const RuntimeError& e) {
-        GTEST_SKIP() << "no GLES 3 context: " << e.what();
-    }
+    LUMAR_CONTEXT_OR_SKIP(context);
     const std::filesystem::path hdr = std::filesystem::path(LUMAR_SHARED_DATA_DIR) / "env/venice_sunset_1k.hdr";
     const std::pair<std::string, ImageF> skies[] = {
         {"lobed sky", equirectOf(512, 256, lobedSky)},

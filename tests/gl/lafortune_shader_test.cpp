@@ -81,12 +81,7 @@ std::vector<Case> makeCases()
 
 TEST(LafortuneShader, MatchesTheCpuEvaluationOverAGridOfDirectionsAndParameters)
 {
-    std::optional<EglContext> context;
-    try {
-        context.emplace(EglDisplay::surfaceless());
-    } catch (const RuntimeError& e) {
-        GTEST_SKIP() << "no GLES 3 context: " << e.what();
-    }
+    LUMAR_CONTEXT_OR_SKIP(context);
     const std::vector<Case> cases = makeCases();
     const int rows = int((cases.size() + kColumns - 1) / kColumns);
 

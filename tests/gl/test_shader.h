@@ -1,13 +1,27 @@
-// Compiling a shader written inside a GL test (a probe around one GLSL include, e.g.
-// lafortune.glsl or cube_atlas.glsl): a failure is the test's, with the info log.
+// The set-up of GL tests that probe shaders directly (one GLSL include, e.g. lafortune.glsl or
+// cube_atlas.glsl, or one IblPipeline pass) without a renderer: a surfaceless context, or a
+// skip where none exists, and shaders compiled with their info log as the test's failure.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <GLES3/gl3.h>
 #include <gtest/gtest.h>
 
+#include "core/error.h"
+#include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/gl_object.h"
+
+// Makes `context` (a std::optional<lumar::EglContext>) current on a surfaceless display, or
+// skips the test where no GLES 3 context can be made.
+#define LUMAR_CONTEXT_OR_SKIP(context)                                                                                 \
+    std::optional<::lumar::EglContext> context;                                                                        \
+    try {                                                                                                              \
+        context.emplace(::lumar::EglDisplay::surfaceless());                                                           \
+    } catch (const ::lumar::RuntimeError& e) {                                                                         \
+        GTEST_SKIP() << "no GLES 3 context: " << e.what();                                                             \
+    }
 
 namespace lumar::test {
 
