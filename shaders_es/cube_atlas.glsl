@@ -42,3 +42,12 @@ vec2 cubeAtlasSize(sampler2D atlas)
 {
     return vec2(textureSize(atlas, 0));
 }
+
+// The same lookup in slot slot.x of a bank of slot.y atlases stacked bottom to top
+// (gles_renderer/ibl_gpu/ibl_maps.h): bankSize is the whole texture's size (at the level
+// read, as atlasSize above); slot (0, 1) is a single atlas.
+vec2 cubeBankUv(vec3 d, vec2 bankSize, vec2 slot, float lod)
+{
+    vec2 uv = cubeAtlasUv(d, vec2(bankSize.x, bankSize.y / slot.y), lod);
+    return vec2(uv.x, (uv.y + slot.x) / slot.y);
+}

@@ -36,6 +36,7 @@ uniform sampler2D uDiffuseMap;        // E / pi (the n = 1 Phong prefilter), env
 uniform sampler2D uGlossy1Map;        // Phong prefilter, n = 8
 uniform sampler2D uGlossy2Map;        // Phong prefilter, n = 64
 uniform sampler2D uMirrorMap;         // the environment map itself
+uniform vec2 uMapSlot;                // the four maps' slot in their bank, the bank's slots (cube_atlas.glsl)
 uniform sampler2DShadow uShadowMap;   // the dominant light's depth, compared (shadow.glsl)
 uniform sampler2D uOcclusion;         // linear r: ambient occlusion
 uniform sampler2D uTransmission;      // linear r: x the transmission factor
@@ -137,7 +138,8 @@ vec3 encodeSrgb(vec3 c)
 // the atlas cells (cube_atlas.glsl).
 vec3 mapRadiance(sampler2D map, vec3 d)
 {
-    return decodeMapTexel(textureLod(map, cubeAtlasUv(d, cubeAtlasSize(map), 0.0), 0.0), MAPS_RGBM);
+    vec2 slot = vec2(uMapSlot.x, max(uMapSlot.y, 1.0)); // unset: a single set
+    return decodeMapTexel(textureLod(map, cubeBankUv(d, cubeAtlasSize(map), slot, 0.0), 0.0), MAPS_RGBM);
 }
 
 // The maps' weights (glossyBlend's two neighbours, the others 0) without branches: llvmpipe

@@ -64,16 +64,44 @@ inline glm::ivec2 cubeAtlasCellOrigin(int face, int size)
     return {face % kAtlasColumns * cubeAtlasCellWidth(size), face / kAtlasColumns * size};
 }
 
+// A map bank: the textures of a set hold `slots` atlases of each kind stacked bottom to top
+// (slot k's rows from k x the atlas's height), so the maps of several objects are drawn in
+// one pass per kind (IblPipeline's *Slots functions): llvmpipe pays for every framebuffer it
+// renders (a flush, and a wait where the next pass reads it), which for the objects' small
+// maps cost more than their texels. Atlas heights are multiples of the mirror map's last
+// level's 2 x 2 boxes (the faces are powers of two), so mip levels keep the slots apart.
+// The textures of a set's maps as shaders bind them, and the set's slot among `slots`.
+struct IblTextures {
+    GLuint mirror = 0;
+    GLuint coefficients = 0; // slots x 9: slot k's coefficients in column k
+    GLuint diffuse = 0;
+    GLuint glossy1 = 0;
+    GLuint glossy2 = 0;
+    int slot = 0;
+    int slots = 1;
+};
+
 struct IblMaps {
     // RGBA16F cube atlases; RGBA8 RGBM ones (shaders_es/rgbm.glsl) where the GLES
-    // implementation cannot render to a float format.
+    // implementation cannot render to a float format. Empty in a view of a bank's slot.
     GlTexture mirror;       // RGBA16F cube atlas, mipmapped (2 x 2 boxes stay inside their cells)
-    GlTexture coefficients; // RGBA32F (or 16F) 1 x 9: the SH9 of the mirror map (rgb)
+    GlTexture coefficients; // RGBA32F (or 16F) slots x 9: the SH9 of the mirror map (rgb)
     GlTexture diffuse;      // RGBA16F cube atlases, one level
     GlTexture glossy1;
     GlTexture glossy2;
     int mirrorLevels = 1;
+    int slots = 1; // atlases stacked in each texture (a bank)
+    // A view of one slot of a bank (EnvironmentProbes): the bank's textures, which change
+    // from frame to frame (its mirror maps are drawn into two textures in turn).
+    IblTextures view;
     bool ready = false; // rendered at least once
+
+    [[nodiscard]] IblTextures textures() const
+    {
+        if (view.mirror != 0)
+            return view;
+        return {mirror.name(), coefficients.name(), diffuse.name(), glossy1.name(), glossy2.name(), 0, slots};
+    }
 };
 
 } // namespace lumar

@@ -46,11 +46,15 @@ public:
         if (maps_ == maps)
             return;
         maps_ = maps;
-        bindTexture(MeshPass::kDiffuseMapUnit, maps->diffuse.name());
-        bindTexture(MeshPass::kGlossy1MapUnit, maps->glossy1.name());
-        bindTexture(MeshPass::kGlossy2MapUnit, maps->glossy2.name());
-        bindTexture(MeshPass::kMirrorMapUnit, maps->mirror.name());
+        const IblTextures textures = maps->textures();
+        bindTexture(MeshPass::kDiffuseMapUnit, textures.diffuse);
+        bindTexture(MeshPass::kGlossy1MapUnit, textures.glossy1);
+        bindTexture(MeshPass::kGlossy2MapUnit, textures.glossy2);
+        bindTexture(MeshPass::kMirrorMapUnit, textures.mirror);
+        mapSlot = glm::vec2(float(textures.slot), float(textures.slots));
     }
+    // The bound maps' slot in their bank (mesh.frag's uMapSlot).
+    glm::vec2 mapSlot{0.0f, 1.0f};
     // The mesh.frag variant in use (~0: another program is bound).
     uint32_t variantFeatures = ~0U;
     const MeshPass::Variant* variant = nullptr;
@@ -119,6 +123,7 @@ const MeshPass::Variant& MeshPass::variant(uint32_t features) const
     variant.cameraFromMeshLocation = uniformLocation(program, "uCameraFromMesh");
     // Unlit variants read no normal (-1: glUniform ignores it).
     variant.normalFromMeshLocation = optionalUniformLocation(program, "uNormalFromMesh");
+    variant.mapSlotLocation = optionalUniformLocation(program, "uMapSlot");
     glUseProgram(program.name());
     // A variant has only the samplers its features read.
     const std::pair<const char*, GLuint> samplers[] = {{"uBaseColor", kBaseColorUnit},
@@ -335,6 +340,7 @@ void MeshPass::drawPrimitive(const DrawItem& item, const GpuModel& model, const 
         }
         cameraFromMeshLocation = state.variant->cameraFromMeshLocation;
         normalFromMeshLocation = state.variant->normalFromMeshLocation;
+        glUniform2f(state.variant->mapSlotLocation, state.mapSlot.x, state.mapSlot.y);
     }
     const glm::mat4 cameraFromMeshF(cameraFromMesh);
     glUniformMatrix4fv(cameraFromMeshLocation, 1, GL_FALSE, glm::value_ptr(cameraFromMeshF));

@@ -91,6 +91,7 @@ public:
         GlProgram program;
         GLint cameraFromMeshLocation = -1;
         GLint normalFromMeshLocation = -1;
+        GLint mapSlotLocation = -1; // uMapSlot: the environment maps' slot in their bank
     };
 
 private:
