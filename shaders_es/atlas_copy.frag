@@ -7,9 +7,10 @@ precision highp float;
 precision highp sampler2D;
 
 uniform sampler2D uSource;
+uniform ivec2 uOffset; // the source texel of fragment p is p - uOffset (a bank slot moved)
 out vec4 fragColor;
 
 void main()
 {
-    fragColor = texelFetch(uSource, ivec2(gl_FragCoord.xy), 0);
+    fragColor = texelFetch(uSource, ivec2(gl_FragCoord.xy) - uOffset, 0);
 }

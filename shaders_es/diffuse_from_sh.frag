@@ -6,7 +6,8 @@ precision highp float;
 precision highp sampler2D;
 
 uniform mat3 uEnvironmentFromFace;
-uniform sampler2D uCoefficients; // 1 x 9, RGBA32F
+uniform sampler2D uCoefficients; // slots x 9, RGBA32F
+uniform int uSlot;               // the column read
 uniform bool uRgbm;              // the face is RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
@@ -23,6 +24,6 @@ void main()
     const float bandOverPi[3] = float[3](1.0, 2.0 / 3.0, 0.25);
     vec3 e = vec3(0.0);
     for (int j = 0; j < 9; ++j)
-        e += texelFetch(uCoefficients, ivec2(0, j), 0).rgb * (y[j] * bandOverPi[j == 0 ? 0 : (j < 4 ? 1 : 2)]);
+        e += texelFetch(uCoefficients, ivec2(uSlot, j), 0).rgb * (y[j] * bandOverPi[j == 0 ? 0 : (j < 4 ? 1 : 2)]);
     fragColor = encodeMapTexel(max(e, vec3(0.0)), uRgbm);
 }

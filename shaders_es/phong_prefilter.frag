@@ -17,7 +17,8 @@ layout(std140) uniform LobeSamples {
 };
 uniform int uSampleCount;
 // Its base level is the mip level to read (IblPipeline moves it there), uAtlasSize px.
-uniform vec2 uAtlasSize;
+uniform vec2 uAtlasSize; // the whole bank's
+uniform vec2 uSlot;      // the slot read and the bank's slot count (cube_atlas.glsl)
 uniform bool uRgbm; // source and face are RGBA8 RGBM (no float render targets)
 
 in vec3 vFaceDirection;
@@ -35,7 +36,7 @@ void main()
     vec3 sum = vec3(0.0);
     for (int k = 0; k < uSampleCount; ++k) {
         vec4 s = uSamples[k];
-        sum += decodeMapTexel(textureLod(uEnvironment, cubeAtlasUv(t * s.x + b * s.y + r * s.z, uAtlasSize, 0.0), 0.0), uRgbm) * s.w;
+        sum += decodeMapTexel(textureLod(uEnvironment, cubeBankUv(t * s.x + b * s.y + r * s.z, uAtlasSize, uSlot, 0.0), 0.0), uRgbm) * s.w;
     }
     fragColor = encodeMapTexel(sum, uRgbm);
 }

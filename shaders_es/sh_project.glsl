@@ -4,12 +4,13 @@
 // defines radianceAt(d) for its map format (cube, lat-long, ...) and nothing else changes.
 uniform sampler2D uSamples; // RGBA32F: xyz a unit direction (environment frame)
 uniform float uWeight;      // 4 pi / N
+uniform ivec2 uCellOrigin;  // the fragment of (row 0, coefficient 0): a bank slot's sums start there
 
 out vec4 fragColor;
 
 void main()
 {
-    ivec2 cell = ivec2(gl_FragCoord.xy);
+    ivec2 cell = ivec2(gl_FragCoord.xy) - uCellOrigin;
     int perRow = textureSize(uSamples, 0).x;
     vec3 sum = vec3(0.0);
     for (int k = 0; k < perRow; ++k) {

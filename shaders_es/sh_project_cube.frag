@@ -6,13 +6,14 @@ precision highp sampler2D;
 // Its base level moved to the mip level whose texels are about a sample's solid angle, read
 // without mipmapping (IblPipeline::readMirrorLevel).
 uniform sampler2D uEnvironment;
-uniform vec2 uAtlasSize; // px at that level
+uniform vec2 uAtlasSize; // px at that level (the whole bank)
+uniform vec2 uSlot;      // the slot read and the bank's slot count (cube_atlas.glsl)
 
 #include "cube_atlas.glsl"
 
 vec3 radianceAt(vec3 d)
 {
-    return textureLod(uEnvironment, cubeAtlasUv(d, uAtlasSize, 0.0), 0.0).rgb;
+    return textureLod(uEnvironment, cubeBankUv(d, uAtlasSize, uSlot, 0.0), 0.0).rgb;
 }
 
 #include "sh_basis.glsl"

@@ -52,11 +52,12 @@ void checkSettings(const IblSettings& s)
 // A cube map of `size`-px faces as a 2D atlas (shaders_es/cube_atlas.glsl's layout): with
 // power-of-two faces every 2 x 2 box of a mip level lies inside one cell, so
 // glGenerateMipmap keeps the faces apart down to 1 px.
-GlTexture makeCubeAtlas(int size, int levels, bool rgbm)
+// `slots` atlases stacked (a bank, ibl_maps.h).
+GlTexture makeCubeAtlas(int size, int levels, bool rgbm, int slots = 1)
 {
     GlTexture texture = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, texture.name());
-    const glm::ivec2 extent = cubeAtlasSize(size);
+    const glm::ivec2 extent = cubeAtlasSize(size) * glm::ivec2(1, slots);
     glTexStorage2D(GL_TEXTURE_2D, levels, rgbm ? GL_RGBA8 : GL_RGBA16F, extent.x, extent.y);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -154,8 +155,10 @@ IblPipeline::IblPipeline(const IblSettings& settings)
 
     glUseProgram(shReduce_.name());
     glUniform1i(uniformLocation(shReduce_, "uPartialSums"), kSourceUnit);
+    glUniform1i(uniformLocation(shReduce_, "uRows"), settings_.shRows);
     glUseProgram(diffuseFromSH_.name());
     glUniform1i(uniformLocation(diffuseFromSH_, "uCoefficients"), kSourceUnit);
+    diffuseSlot_ = uniformLocation(diffuseFromSH_, "uSlot");
     diffuseEnvironmentFromFace_ = uniformLocation(diffuseFromSH_, "uEnvironmentFromFace");
     glUniform1i(uniformLocation(diffuseFromSH_, "uRgbm"), rgbm_);
     glUseProgram(phongPrefilter_.name());
@@ -165,8 +168,10 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     prefilterEnvironmentFromFace_ = uniformLocation(phongPrefilter_, "uEnvironmentFromFace");
     glUniform1i(uniformLocation(phongPrefilter_, "uRgbm"), rgbm_);
     prefilterAtlasSize_ = uniformLocation(phongPrefilter_, "uAtlasSize");
+    prefilterSlot_ = uniformLocation(phongPrefilter_, "uSlot");
     glUseProgram(atlasCopy_.name());
     glUniform1i(uniformLocation(atlasCopy_, "uSource"), kSourceUnit);
+    atlasCopyOffset_ = uniformLocation(atlasCopy_, "uOffset");
 
     // The SH sample set, rows x (N / rows) directions: row i is fragment i's share.
     // The spherical Fibonacci set: equal weights and, unlike a jittered grid, no clumps or
@@ -179,7 +184,6 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     for (const glm::vec3& d : directions)
         texels.insert(texels.end(), {d.x, d.y, d.z, 0.0f});
     shSamples_ = makeFloatTexture(samples / settings_.shRows, settings_.shRows, texels.data());
-    partialSums_ = makeFloatTexture(settings_.shRows, 9, nullptr, sumFormat_);
     // glossy-2 from the mirror map; glossy-1 from glossy-2 (cascaded: a Phong lobe of
     // exponent n1 is close to n2's followed by the one whose angular variance makes up the
     // difference, and the blurred source needs far fewer samples).
@@ -192,8 +196,9 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
     mirrorLevels_ = std::clamp(int(std::ceil(std::max(shLod_, glossy2_.lod))) + 1, 1, fullChain);
     glUseProgram(shProject_.name());
-    const glm::vec2 shSource = mirrorLevelSize(mirrorLevel(shLod_));
-    glUniform2f(uniformLocation(shProject_, "uAtlasSize"), shSource.x, shSource.y);
+    shProjectAtlasSize_ = uniformLocation(shProject_, "uAtlasSize");
+    shProjectSlot_ = uniformLocation(shProject_, "uSlot");
+    shProjectCellOrigin_ = uniformLocation(shProject_, "uCellOrigin");
 
     // Sources of the sums are read from one mip level (bilinear): the LOD is chosen so a
     // texel is about a sample's solid angle, and blending two levels doubled the cost. The
@@ -216,15 +221,27 @@ IblPipeline::IblPipeline(const IblSettings& settings)
 
     // Every map is its own atlas (cube_atlas.glsl), drawn through these two framebuffers:
     // the mirror maps with a shared depth buffer, the derived maps colour only.
+    mirrorAtlasFramebuffer_ = GlFramebuffer::create();
+    derivedAtlasFramebuffer_ = GlFramebuffer::create();
+    reserveSlots(1);
+    checkGlError("creating the environment-map pipeline");
+}
+
+void IblPipeline::reserveSlots(int slots) const
+{
+    if (slots <= reservedSlots_)
+        return;
+    reservedSlots_ = slots;
+    partialSums_ = makeFloatTexture(settings_.shRows * slots, 9, nullptr, sumFormat_);
+    // One depth buffer the size of the largest bank, shared by every mirror pass (a smaller
+    // colour attachment limits the area drawn).
     mirrorAtlasDepth_ = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, mirrorAtlasDepth_.name());
-    const glm::ivec2 mirrorExtent = cubeAtlasSize(settings_.mirrorSize);
+    const glm::ivec2 mirrorExtent = cubeAtlasSize(settings_.mirrorSize) * glm::ivec2(1, slots);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, mirrorExtent.x, mirrorExtent.y);
-    mirrorAtlasFramebuffer_ = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, mirrorAtlasFramebuffer_.name());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, mirrorAtlasDepth_.name());
-    derivedAtlasFramebuffer_ = GlFramebuffer::create();
-    checkGlError("creating the environment-map pipeline");
+    checkGlError("growing the environment-map pipeline's buffers");
 }
 
 IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent, int samples, int sourceSize) const
@@ -254,24 +271,39 @@ IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent, int samples, i
     return p;
 }
 
-IblMaps IblPipeline::createMaps() const
+int IblPipeline::maxBankSlots(int wanted) const
 {
+    constexpr int kLeastMaximumTextureSize = 2048;
+    return std::clamp(kLeastMaximumTextureSize / cubeAtlasSize(settings_.mirrorSize).y, 1, std::max(1, wanted));
+}
+
+GlTexture IblPipeline::createMirror(int slots) const
+{
+    return makeCubeAtlas(settings_.mirrorSize, mirrorLevels_, rgbm_, slots);
+}
+
+IblMaps IblPipeline::createMaps(int slots) const
+{
+    if (slots < 1 || slots > maxBankSlots(slots))
+        throw InputError("an environment-map bank holds 1 to " + std::to_string(maxBankSlots(1 << 20)) + " sets");
+    reserveSlots(slots);
     IblMaps maps;
+    maps.slots = slots;
     maps.mirrorLevels = mirrorLevels_;
-    maps.mirror = makeCubeAtlas(settings_.mirrorSize, maps.mirrorLevels, rgbm_);
+    maps.mirror = createMirror(slots);
     // RGBM: the CPU writes the coefficients, sampling a float texture needs no extension.
     maps.coefficients =
-        makeFloatTexture(1, 9, nullptr, rgbm_ ? (settings_.halfFloatOnly ? GL_RGBA16F : GL_RGBA32F) : sumFormat_);
-    maps.diffuse = makeCubeAtlas(settings_.diffuseSize, 1, rgbm_);
-    maps.glossy1 = makeCubeAtlas(settings_.glossy1Size, 1, rgbm_);
-    maps.glossy2 = makeCubeAtlas(settings_.glossy2Size, 1, rgbm_);
+        makeFloatTexture(slots, 9, nullptr, rgbm_ ? (settings_.halfFloatOnly ? GL_RGBA16F : GL_RGBA32F) : sumFormat_);
+    maps.diffuse = makeCubeAtlas(settings_.diffuseSize, 1, rgbm_, slots);
+    maps.glossy1 = makeCubeAtlas(settings_.glossy1Size, 1, rgbm_, slots);
+    maps.glossy2 = makeCubeAtlas(settings_.glossy2Size, 1, rgbm_, slots);
     checkGlError("allocating environment maps");
     return maps;
 }
 
-glm::vec2 IblPipeline::mirrorLevelSize(int level) const
+glm::vec2 IblPipeline::mirrorLevelSize(int level, int slots) const
 {
-    return glm::vec2(glm::max(cubeAtlasSize(settings_.mirrorSize) >> level, glm::ivec2(1)));
+    return glm::vec2(glm::max((cubeAtlasSize(settings_.mirrorSize) * glm::ivec2(1, slots)) >> level, glm::ivec2(1)));
 }
 
 int IblPipeline::mirrorLevel(float lod) const
@@ -284,41 +316,61 @@ int IblPipeline::mirrorLevel(float lod) const
 void IblPipeline::renderMirror(IblMaps& maps, const IblMaps* backdrop,
                                const std::function<void(int face)>& drawFace) const
 {
+    const MirrorSlot slot{0, backdrop ? backdrop->mirror.name() : 0, false, drawFace};
+    renderMirrorSlots(maps, std::span(&slot, 1));
+}
+
+void IblPipeline::renderMirrorSlots(IblMaps& bank, std::span<const MirrorSlot> slots) const
+{
     const int size = settings_.mirrorSize;
+    const glm::ivec2 extent = cubeAtlasSize(size);
     glBindFramebuffer(GL_FRAMEBUFFER, mirrorAtlasFramebuffer_.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, maps.mirror.name(), 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, bank.mirror.name(), 0);
     glDisable(GL_SCISSOR_TEST);
     glDepthMask(GL_TRUE);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClear(backdrop ? GL_DEPTH_BUFFER_BIT : GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    const glm::ivec2 extent = cubeAtlasSize(size);
-    glViewport(0, 0, extent.x, extent.y);
-    if (backdrop) {
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    // The scissor keeps every face in its cell whatever the rasteriser's guard band lets
+    // through, and every backdrop in its slot.
+    glEnable(GL_SCISSOR_TEST);
+    for (const MirrorSlot& s : slots) {
+        const glm::ivec2 origin(0, s.slot * extent.y);
+        glViewport(origin.x, origin.y, extent.x, extent.y);
+        glScissor(origin.x, origin.y, extent.x, extent.y);
+        if (s.backdrop == 0) {
+            glClear(GL_COLOR_BUFFER_BIT);
+            continue;
+        }
         // The backdrop's atlas has the same layout: one draw over the whole atlas copies
         // every face, binned into the same scene as the faces drawn over it.
         glUseProgram(atlasCopy_.name());
-        bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, backdrop->mirror.name());
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
+        const glm::ivec2 offset = s.backdropIsBank ? glm::ivec2(0) : origin;
+        glUniform2i(atlasCopyOffset_, offset.x, offset.y);
+        bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, s.backdrop);
         glDepthMask(GL_FALSE);
         drawFullscreenTriangle();
         glDepthMask(GL_TRUE);
     }
-    // The scissor keeps every face in its cell whatever the rasteriser's guard band lets through.
-    glEnable(GL_SCISSOR_TEST);
-    for (int face = 0; face < kCubeFaces; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
-        glViewport(origin.x, origin.y, size, size);
-        glScissor(origin.x, origin.y, size, size);
-        drawFace(face);
+    for (const MirrorSlot& s : slots) {
+        if (!s.drawFace)
+            continue;
+        for (int face = 0; face < kCubeFaces; ++face) {
+            const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) + glm::ivec2(0, s.slot * extent.y);
+            glViewport(origin.x, origin.y, size, size);
+            glScissor(origin.x, origin.y, size, size);
+            s.drawFace(face);
+        }
     }
     glDisable(GL_SCISSOR_TEST);
     // Nothing reads the depth buffer after the faces are drawn.
     const GLenum depth = GL_DEPTH_ATTACHMENT;
     glInvalidateFramebuffer(GL_FRAMEBUFFER, 1, &depth);
-    // One 2 x 2 box blit per level for all six faces (the cells stay apart, makeCubeAtlas).
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.mirror.name());
+    // One 2 x 2 box blit per level for all faces of all slots (the cells stay apart,
+    // makeCubeAtlas).
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.mirror.name());
     glGenerateMipmap(GL_TEXTURE_2D);
 }
 
@@ -338,8 +390,8 @@ void IblPipeline::drawSkybox(int face, GLuint equirect, int equirectWidth, float
     glDepthMask(GL_TRUE);
 }
 
-void IblPipeline::renderFaces(GLuint atlas, int size, GLuint program,
-                              const std::function<void(int face)>& perFace) const
+void IblPipeline::renderFaces(GLuint atlas, int size, std::span<const int> slots, GLuint program,
+                              const std::function<void(int slot, int face)>& perFace) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, derivedAtlasFramebuffer_.name());
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, atlas, 0);
@@ -348,44 +400,57 @@ void IblPipeline::renderFaces(GLuint atlas, int size, GLuint program,
     glDisable(GL_BLEND);
     glUseProgram(program);
     glEnable(GL_SCISSOR_TEST);
-    for (int face = 0; face < kCubeFaces; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
-        glViewport(origin.x, origin.y, size, size);
-        glScissor(origin.x, origin.y, size, size);
-        perFace(face);
-        drawFullscreenTriangle();
-    }
+    for (const int slot : slots)
+        for (int face = 0; face < kCubeFaces; ++face) {
+            const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) + glm::ivec2(0, slot * cubeAtlasSize(size).y);
+            glViewport(origin.x, origin.y, size, size);
+            glScissor(origin.x, origin.y, size, size);
+            perFace(slot, face);
+            drawFullscreenTriangle();
+        }
     glDisable(GL_SCISSOR_TEST);
 }
 
-void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients) const
+void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients, std::span<const int> slots,
+                             const std::function<void(int slot)>& perSlot) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, plainFramebuffer_.name());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
 
-    // Pass 1: partial sums, one fragment per (row of samples, coefficient).
+    // Pass 1: partial sums, one fragment per (row of samples, coefficient), slot k's rows
+    // from column k x rows.
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, partialSums_.name(), 0);
-    glViewport(0, 0, settings_.shRows, 9);
     glUseProgram(program);
     bindTextureUnit(kSamplesUnit, GL_TEXTURE_2D, shSamples_.name());
     glBindSampler(GLuint(kSourceUnit), sampler);
-    drawFullscreenTriangle();
+    glEnable(GL_SCISSOR_TEST);
+    for (const int slot : slots) {
+        glViewport(slot * settings_.shRows, 0, settings_.shRows, 9);
+        glScissor(slot * settings_.shRows, 0, settings_.shRows, 9);
+        perSlot(slot);
+        drawFullscreenTriangle();
+    }
     glBindSampler(GLuint(kSourceUnit), 0);
 
-    // Pass 2: the sums of the rows, into the 1 x 9 coefficient texture.
+    // Pass 2: the sums of each slot's rows, fragment (k, j) into column k of the coefficients.
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, coefficients, 0);
-    glViewport(0, 0, 1, 9);
     glUseProgram(shReduce_.name());
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, partialSums_.name());
-    drawFullscreenTriangle();
+    for (const int slot : slots) {
+        glViewport(slot, 0, 1, 9);
+        glScissor(slot, 0, 1, 9);
+        drawFullscreenTriangle();
+    }
+    glDisable(GL_SCISSOR_TEST);
 }
 
-void IblPipeline::projectShOnCpu(IblMaps& maps) const
+void IblPipeline::projectShOnCpu(IblMaps& maps, int slot) const
 {
     // Level 0, decoded here: the GPU's mip levels of RGBM texels average the encodings.
     const int size = settings_.mirrorSize;
+    const int slotOrigin = slot * cubeAtlasSize(size).y;
     CubeMapF cube;
     cube.size = size;
     std::vector<uint8_t> texels(size_t(size) * size_t(size) * 4);
@@ -394,7 +459,7 @@ void IblPipeline::projectShOnCpu(IblMaps& maps) const
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     for (int face = 0; face < kCubeFaces; ++face) {
         const glm::ivec2 origin = cubeAtlasCellOrigin(face, size);
-        glReadPixels(origin.x, origin.y, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+        glReadPixels(origin.x, origin.y + slotOrigin, size, size, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
         ImageF& image = cube.faces[size_t(face)];
         image = ImageF(size, size, 3);
         for (size_t i = 0; i < size_t(size) * size_t(size); ++i) {
@@ -409,7 +474,7 @@ void IblPipeline::projectShOnCpu(IblMaps& maps) const
         for (size_t c = 0; c < 3; ++c)
             block[j * 4 + c] = sh[j][int(c)];
     glBindTexture(GL_TEXTURE_2D, maps.coefficients.name());
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 1, 9, GL_RGBA, GL_FLOAT, block);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, slot, 0, 1, 9, GL_RGBA, GL_FLOAT, block);
 }
 
 void IblPipeline::projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps& maps) const
@@ -424,7 +489,9 @@ void IblPipeline::projectEquirectSH(GLuint equirect, int equirectWidth, IblMaps&
     glUseProgram(shProjectEquirect_.name());
     glUniform1f(equirectLod_, lod);
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, equirect);
-    sumSamples(shProjectEquirect_.name(), nearestLevelWrapped_.name(), maps.coefficients.name());
+    const int slot = 0;
+    sumSamples(shProjectEquirect_.name(), nearestLevelWrapped_.name(), maps.coefficients.name(), std::span(&slot, 1),
+               [](int) {});
 }
 
 void IblPipeline::readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const
@@ -440,40 +507,67 @@ void IblPipeline::readMirrorLevel(const IblMaps& maps, float lod, const std::fun
 
 void IblPipeline::projectSH(IblMaps& maps) const
 {
+    const int slot = 0;
+    projectSHSlots(maps, std::span(&slot, 1));
+}
+
+void IblPipeline::projectSHSlots(IblMaps& bank, std::span<const int> slots) const
+{
+    if (slots.empty())
+        return;
     if (rgbm_) {
-        projectShOnCpu(maps);
+        for (const int slot : slots)
+            projectShOnCpu(bank, slot);
     } else {
-        readMirrorLevel(maps, shLod_,
-                        [&] { sumSamples(shProject_.name(), singleLevel_.name(), maps.coefficients.name()); });
+        const glm::vec2 source = mirrorLevelSize(mirrorLevel(shLod_), bank.slots);
+        readMirrorLevel(bank, shLod_, [&] {
+            sumSamples(shProject_.name(), singleLevel_.name(), bank.coefficients.name(), slots, [&](int slot) {
+                glUniform2f(shProjectAtlasSize_, source.x, source.y);
+                glUniform2f(shProjectSlot_, float(slot), float(bank.slots));
+                glUniform2i(shProjectCellOrigin_, slot * settings_.shRows, 0);
+            });
+        });
     }
 
-    // The diffuse map from the nine coefficients.
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.coefficients.name());
-    renderFaces(maps.diffuse.name(), settings_.diffuseSize, diffuseFromSH_.name(), [&](int face) {
+    // The diffuse maps from the nine coefficients.
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.coefficients.name());
+    renderFaces(bank.diffuse.name(), settings_.diffuseSize, slots, diffuseFromSH_.name(), [&](int slot, int face) {
         const glm::mat3 m = environmentFromFace(face);
         glUniformMatrix3fv(diffuseEnvironmentFromFace_, 1, GL_FALSE, glm::value_ptr(m));
+        glUniform1i(diffuseSlot_, slot);
     });
 }
 
 void IblPipeline::prefilter(IblMaps& maps) const
 {
-    // source: the size of the atlas level read.
+    const int slot = 0;
+    prefilterSlots(maps, std::span(&slot, 1));
+}
+
+void IblPipeline::prefilterSlots(IblMaps& bank, std::span<const int> slots) const
+{
+    if (slots.empty())
+        return;
+    // source: the size of the bank's level read.
     const auto run = [&](const Prefilter& p, GLuint atlas, int size, glm::vec2 source) {
         glBindBufferBase(GL_UNIFORM_BUFFER, kLobeSamplesBinding, p.samples.name());
-        renderFaces(atlas, size, phongPrefilter_.name(), [&](int face) {
+        renderFaces(atlas, size, slots, phongPrefilter_.name(), [&](int slot, int face) {
             const glm::mat3 m = environmentFromFace(face);
             glUniformMatrix3fv(prefilterEnvironmentFromFace_, 1, GL_FALSE, glm::value_ptr(m));
             glUniform2f(prefilterAtlasSize_, source.x, source.y);
+            glUniform2f(prefilterSlot_, float(slot), float(bank.slots));
             glUniform1i(prefilterSampleCount_, p.count);
         });
     };
-    readMirrorLevel(maps, glossy2_.lod, [&] {
-        run(glossy2_, maps.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(mirrorLevel(glossy2_.lod)));
+    readMirrorLevel(bank, glossy2_.lod, [&] {
+        run(glossy2_, bank.glossy2.name(), settings_.glossy2Size,
+            mirrorLevelSize(mirrorLevel(glossy2_.lod), bank.slots));
     });
     // glossy-2 has a single level: read as it is.
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, maps.glossy2.name());
-    run(glossy1_, maps.glossy1.name(), settings_.glossy1Size, glm::vec2(cubeAtlasSize(settings_.glossy2Size)));
-    maps.ready = true;
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.glossy2.name());
+    run(glossy1_, bank.glossy1.name(), settings_.glossy1Size,
+        glm::vec2(cubeAtlasSize(settings_.glossy2Size) * glm::ivec2(1, bank.slots)));
+    bank.ready = true;
 }
 
 void IblPipeline::updateDerivedMaps(IblMaps& maps) const

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -26,8 +27,15 @@ public:
 
     [[nodiscard]] const IblSettings& settings() const { return settings_; }
 
-    // Allocates the textures of one set (contents undefined until updated).
-    [[nodiscard]] IblMaps createMaps() const;
+    // Allocates the textures of one set, or of a bank of `slots` sets (ibl_maps.h; contents
+    // undefined until updated). At most maxBankSlots() slots.
+    [[nodiscard]] IblMaps createMaps(int slots = 1) const;
+    // The most slots a bank can have (its mirror textures stay within 2048 px, GLES 3.0's least
+    // maximum texture size), at most `wanted`.
+    [[nodiscard]] int maxBankSlots(int wanted) const;
+    // A bank's mirror texture alone (the second of the two a bank's mirror maps are drawn
+    // into in turn, so that a pass never reads the texture it draws).
+    [[nodiscard]] GlTexture createMirror(int slots) const;
 
     // Renders the six faces of maps.mirror: starts each face from `backdrop`'s mirror map
     // (the same size; the real environment's, every object map's backdrop, a texel copy
@@ -44,6 +52,19 @@ public:
     // where a draw is only queued, so the next scene is binned while this one rasterises.
     void renderMirror(IblMaps& maps, const IblMaps* backdrop, const std::function<void(int face)>& drawFace) const;
 
+    // One slot of a bank's mirror pass (renderMirrorSlots).
+    struct MirrorSlot {
+        int slot = 0;
+        // The mirror texture whose texels start the slot (0: black): a single atlas, or with
+        // backdropIsBank a bank of the same layout whose same slot is copied.
+        GLuint backdrop = 0;
+        bool backdropIsBank = false;
+        std::function<void(int face)> drawFace; // as renderMirror's; empty: the backdrop alone
+    };
+    // renderMirror for several slots of a bank in one pass and one mip build: every
+    // backdrop, then every slot's faces.
+    void renderMirrorSlots(IblMaps& bank, std::span<const MirrorSlot> slots) const;
+
     // Draws the equirectangular real environment (linear, mipmapped 2D texture of the given
     // width) into the bound face, behind everything (no depth write).
     void drawSkybox(int face, GLuint equirect, int equirectWidth, float intensity) const;
@@ -57,6 +78,9 @@ public:
     // The two halves of updateDerivedMaps, for per-stage timing.
     void projectSH(IblMaps& maps) const;
     void prefilter(IblMaps& maps) const;
+    // The same for the listed slots of a bank, one pass per map for all of them.
+    void projectSHSlots(IblMaps& bank, std::span<const int> slots) const;
+    void prefilterSlots(IblMaps& bank, std::span<const int> slots) const;
 
 private:
     struct Prefilter {
@@ -65,20 +89,25 @@ private:
         float lod = 0.0f;
     };
     Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
-    // Draws the six size-px faces of the cube atlas `atlas` with `program` (perFace sets
-    // per-face uniforms).
-    void renderFaces(GLuint atlas, int size, GLuint program, const std::function<void(int face)>& perFace) const;
+    // Draws the six size-px faces of each listed slot of the cube atlas bank `atlas` with
+    // `program` (perFace sets per-face uniforms).
+    void renderFaces(GLuint atlas, int size, std::span<const int> slots, GLuint program,
+                     const std::function<void(int slot, int face)>& perFace) const;
     // The mirror level that LINEAR_MIPMAP_NEAREST would pick at `lod`.
     [[nodiscard]] int mirrorLevel(float lod) const;
-    // The size of that level of a mirror atlas.
-    [[nodiscard]] glm::vec2 mirrorLevelSize(int level) const;
+    // The size of that level of a mirror bank of `slots` atlases.
+    [[nodiscard]] glm::vec2 mirrorLevelSize(int level, int slots = 1) const;
     // Runs `pass` with maps.mirror bound to kSourceUnit, reading the single level
     // mirrorLevel(lod) (its faces mirrorSize >> level px).
     void readMirrorLevel(const IblMaps& maps, float lod, const std::function<void()>& pass) const;
     // The RGBM fallback of projectSH's sums: on the CPU, over the decoded mirror map.
-    void projectShOnCpu(IblMaps& maps) const;
-    // Pass 1 with `program` (its source bound to kSourceUnit), then pass 2 into `coefficients`.
-    void sumSamples(GLuint program, GLuint sampler, GLuint coefficients) const;
+    void projectShOnCpu(IblMaps& maps, int slot) const;
+    // Pass 1 with `program` (its source bound to kSourceUnit; perSlot sets the slot's
+    // uniforms), then pass 2 into `coefficients`, for slots 0..slots-1 (at least one).
+    void sumSamples(GLuint program, GLuint sampler, GLuint coefficients, std::span<const int> slots,
+                    const std::function<void(int slot)>& perSlot) const;
+    // Grows the buffers shared by all sets to a bank of `slots` (partial sums, mirror depth).
+    void reserveSlots(int slots) const;
 
     IblSettings settings_;
     GLenum sumFormat_ = GL_RGBA32F; // partial sums and coefficients
@@ -96,9 +125,12 @@ private:
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
     GLint prefilterEnvironmentFromFace_ = -1, prefilterAtlasSize_ = -1, prefilterSampleCount_ = -1;
+    GLint prefilterSlot_ = -1, diffuseSlot_ = -1, shProjectSlot_ = -1, shProjectCellOrigin_ = -1;
+    GLint shProjectAtlasSize_ = -1, atlasCopyOffset_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
-    GlTexture partialSums_; // RGBA32F rows x 9
+    mutable GlTexture partialSums_; // RGBA32F (rows x slots) x 9
+    mutable int reservedSlots_ = 0;
     Prefilter glossy1_;
     Prefilter glossy2_;
     GlSampler singleLevel_;
@@ -107,7 +139,7 @@ private:
     GlFramebuffer readFramebuffer_;  // the mirror atlas, read back (RGBM)
     // Framebuffers the maps' atlases are attached to in turn: the mirror maps' (with a
     // depth buffer shared by all of them) and the derived maps'.
-    GlRenderbuffer mirrorAtlasDepth_;
+    mutable GlRenderbuffer mirrorAtlasDepth_;
     GlFramebuffer mirrorAtlasFramebuffer_;
     GlFramebuffer derivedAtlasFramebuffer_;
 };

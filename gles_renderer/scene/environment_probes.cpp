@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -114,9 +115,7 @@ void EnvironmentProbes::rebuildEnvironmentMaps(const EnvironmentLighting& enviro
     pipeline_.updateDerivedMaps(environmentMaps_);
     environmentGeneration_ = environment.generation();
     // Every object's maps show the old environment: render them again before use.
-    probes_.clear();
-    history_.clear();
-    phantomLayers_.clear();
+    clear();
     checkGlError("building the real environment's maps");
 }
 
@@ -191,21 +190,35 @@ void EnvironmentProbes::chooseUpdates(const std::vector<GpuModel>& models, std::
     roundRobin_ = (roundRobin_ + std::min(count, affordable)) % count;
 }
 
-void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                    const EnvironmentLighting& environment, const MeshPass& meshes,
-                                    const ShadowPass& shadows, const CameraView& camera, RenderCpuClock* cpu,
-                                    bool finish, RenderStats& stats)
+std::pair<size_t, int> EnvironmentProbes::slotOf(int object)
 {
-    IblMaps& maps = probes_[items[owner].object];
-    if (!maps.mirror)
-        maps = pipeline_.createMaps();
+    for (size_t b = 0; b < banks_.size(); ++b)
+        for (size_t k = 0; k < banks_[b].objects.size(); ++k)
+            if (banks_[b].objects[k] == object)
+                return {b, int(k)};
+    for (size_t b = 0; b < banks_.size(); ++b)
+        for (size_t k = 0; k < banks_[b].objects.size(); ++k)
+            if (banks_[b].objects[k] < 0) {
+                banks_[b].objects[k] = object;
+                return {b, int(k)};
+            }
+    Bank bank;
+    const int slots = pipeline_.maxBankSlots(kBankSlots);
+    bank.maps = pipeline_.createMaps(slots);
+    bank.previousMirror = pipeline_.createMirror(slots);
+    bank.objects.assign(size_t(slots), -1);
+    bank.objects[0] = object;
+    banks_.push_back(std::move(bank));
+    return {banks_.size() - 1, 0};
+}
 
-    const glm::dmat4& ownerFromModel = items[owner].cameraFromModel;
-    const glm::dvec3 centre =
-        glm::dvec3(ownerFromModel * glm::dvec4(boundsCentre(models[size_t(items[owner].model)]), 1.0));
+void EnvironmentProbes::drawProbeFace(const Probe& probe, int face, bool phantomsOnly, MeshPass::Phantoms phantoms,
+                                      const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                                      const EnvironmentLighting& environment, const MeshPass& meshes,
+                                      const ShadowPass& shadows, const CameraView& camera, RenderStats& stats)
+{
     const int size = pipeline_.settings().mirrorSize;
     const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
-
     // Phantoms carry the camera image (phantom.frag) when the frame has one and the phantoms'
     // depth as the camera saw them.
     const bool cameraPhantoms = camera.texture != 0 && camera.phantomDepth != 0;
@@ -215,50 +228,58 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
     phantomCamera.image = camera.texture;
     phantomCamera.depth = camera.phantomDepth;
 
-    // Draws the items (all but the owner, or the phantoms alone) into face `face`, the
-    // phantoms shaded or into depth alone (MeshPass::Phantoms).
-    const auto drawFace = [&](int face, bool phantomsOnly, MeshPass::Phantoms phantoms) {
-        const glm::dmat3 faceFromCube = faceCameraFromCube(face);
-        const glm::dmat4 faceFromCamera =
-            glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
-        phantomCamera.frameCameraFromView = glm::mat4(glm::inverse(faceFromCamera));
-        // Only what the face's 90-degree frustum can see: each neighbour usually shows in
-        // one or two faces of six.
-        faceItems_.clear();
-        faceMaps_.clear();
-        for (size_t i = 0; i < items.size(); ++i) {
-            if (i == owner || (phantomsOnly && !items[i].phantom))
-                continue;
-            DrawItem item = items[i];
-            item.cameraFromModel = faceFromCamera * item.cameraFromModel;
-            if (!mayBeInFace(item, models[size_t(item.model)])) {
-                ++stats.facesCulled;
-                continue;
-            }
-            faceItems_.push_back(item);
-            faceMaps_.push_back(maps_[i]);
+    const glm::dmat3 faceFromCube = faceCameraFromCube(face);
+    const glm::dmat4 faceFromCamera =
+        glm::dmat4(faceFromCube * environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -probe.centre);
+    phantomCamera.frameCameraFromView = glm::mat4(glm::inverse(faceFromCamera));
+    // Only what the face's 90-degree frustum can see: each neighbour usually shows in
+    // one or two faces of six.
+    faceItems_.clear();
+    faceMaps_.clear();
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (i == probe.owner || (phantomsOnly && !items[i].phantom))
+            continue;
+        DrawItem item = items[i];
+        item.cameraFromModel = faceFromCamera * item.cameraFromModel;
+        if (!mayBeInFace(item, models[size_t(item.model)])) {
+            ++stats.facesCulled;
+            continue;
         }
-        FrameUniforms frame;
-        frame.clipFromCamera = glm::mat4(clip);
-        const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
-        for (int c = 0; c < 3; ++c)
-            frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
-        // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
-        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
-        shadows.fillView(frame, glm::inverse(faceFromCamera));
-        meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy,
-                    faceIntrinsics(size).fx, cameraPhantoms ? &phantomCamera : nullptr);
-    };
+        faceItems_.push_back(item);
+        faceMaps_.push_back(maps_[i]);
+    }
+    FrameUniforms frame;
+    frame.clipFromCamera = glm::mat4(clip);
+    const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
+    for (int c = 0; c < 3; ++c)
+        frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
+    // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
+    frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
+    shadows.fillView(frame, glm::inverse(faceFromCamera));
+    meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy, faceIntrinsics(size).fx,
+                cameraPhantoms ? &phantomCamera : nullptr);
+}
 
-    StageTimer timer(cpu, finish);
+EnvironmentProbes::Probe EnvironmentProbes::prepareProbe(size_t owner, const std::vector<GpuModel>& models,
+                                                         std::span<const DrawItem> items,
+                                                         const EnvironmentLighting& environment, const MeshPass& meshes,
+                                                         const ShadowPass& shadows, const CameraView& camera,
+                                                         RenderStats& stats)
+{
+    Probe probe;
+    probe.owner = owner;
+    const glm::dmat4& ownerFromModel = items[owner].cameraFromModel;
+    probe.centre = glm::dvec3(ownerFromModel * glm::dvec4(boundsCentre(models[size_t(items[owner].model)]), 1.0));
+    const bool cameraPhantoms = camera.texture != 0 && camera.phantomDepth != 0;
+
     // The phantoms as the layer would show them now, in the environment frame about the centre.
     phantomScene_.clear();
     const glm::dmat4 environmentFromCentre =
-        glm::dmat4(environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -centre);
+        glm::dmat4(environment.environmentFromCamera()) * glm::translate(glm::dmat4(1.0), -probe.centre);
     for (const DrawItem& item : items)
         if (item.phantom)
             phantomScene_.emplace_back(item.model, environmentFromCentre * item.cameraFromModel);
-    const IblMaps* backdrop = &environmentMaps_;
+    probe.backdrop = &environmentMaps_;
     if (cameraPhantoms) // the camera image changes every frame: a layer would be stale at once
         phantomLayers_.erase(items[owner].object);
     else if (!phantomScene_.empty()) {
@@ -270,22 +291,85 @@ void EnvironmentProbes::renderProbe(size_t owner, const std::vector<GpuModel>& m
             if (!layer.drawn) {
                 if (!layer.maps.mirror)
                     layer.maps = pipeline_.createMaps();
-                pipeline_.renderMirror(layer.maps, &environmentMaps_,
-                                       [&](int face) { drawFace(face, true, MeshPass::Phantoms::Shaded); });
+                pipeline_.renderMirror(layer.maps, &environmentMaps_, [&](int face) {
+                    drawProbeFace(probe, face, true, MeshPass::Phantoms::Shaded, models, items, environment, meshes,
+                                  shadows, camera, stats);
+                });
                 layer.drawn = true;
             }
-            backdrop = &layer.maps;
+            probe.backdrop = &layer.maps;
         }
     }
-    const MeshPass::Phantoms phantoms =
-        backdrop == &environmentMaps_ ? MeshPass::Phantoms::Shaded : MeshPass::Phantoms::DepthOnly;
-    pipeline_.renderMirror(maps, backdrop, [&](int face) { drawFace(face, false, phantoms); });
+    probe.phantoms = probe.backdrop == &environmentMaps_ ? MeshPass::Phantoms::Shaded : MeshPass::Phantoms::DepthOnly;
+    return probe;
+}
+
+void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, const std::vector<GpuModel>& models,
+                                   std::span<const DrawItem> items, const EnvironmentLighting& environment,
+                                   const MeshPass& meshes, const ShadowPass& shadows, const CameraView& camera,
+                                   RenderCpuClock* cpu, bool finish, RenderStats& stats)
+{
+    StageTimer timer(cpu, finish);
+    probesThisPass_.clear();
+    for (const size_t i : updates)
+        probesThisPass_.push_back(prepareProbe(i, models, items, environment, meshes, shadows, camera, stats));
+
+    Bank& bank = banks_[b];
+    // What the faces see of this bank's objects is the last pass's maps: the texture drawn
+    // now is never read while it is drawn.
+    std::swap(bank.maps.mirror, bank.previousMirror);
+    const auto pointViews = [&](GLuint mirror) {
+        for (size_t k = 0; k < bank.objects.size(); ++k)
+            if (bank.objects[k] >= 0) {
+                IblMaps& view = probes_[bank.objects[k]];
+                view.view = {mirror,
+                             bank.maps.coefficients.name(),
+                             bank.maps.diffuse.name(),
+                             bank.maps.glossy1.name(),
+                             bank.maps.glossy2.name(),
+                             int(k),
+                             bank.maps.slots};
+                view.mirrorLevels = bank.maps.mirrorLevels;
+            }
+    };
+    pointViews(bank.previousMirror.name());
+
+    mirrorSlots_.clear();
+    updatedSlots_.clear();
+    for (size_t k = 0; k < bank.objects.size(); ++k) {
+        const int object = bank.objects[k];
+        if (object < 0)
+            continue;
+        const auto probe = std::find_if(probesThisPass_.begin(), probesThisPass_.end(),
+                                        [&](const Probe& p) { return items[p.owner].object == object; });
+        IblPipeline::MirrorSlot slot;
+        slot.slot = int(k);
+        if (probe != probesThisPass_.end()) {
+            slot.backdrop = probe->backdrop->mirror.name();
+            const Probe* p = &*probe;
+            slot.drawFace = [this, p, &models, items, &environment, &meshes, &shadows, &camera, &stats](int face) {
+                drawProbeFace(*p, face, false, p->phantoms, models, items, environment, meshes, shadows, camera, stats);
+            };
+            updatedSlots_.push_back(int(k));
+        } else if (probes_[object].ready) {
+            // Not updated: its last maps carried over into the texture drawn now.
+            slot.backdrop = bank.previousMirror.name();
+            slot.backdropIsBank = true;
+        } else {
+            continue;
+        }
+        mirrorSlots_.push_back(std::move(slot));
+    }
+    pipeline_.renderMirrorSlots(bank.maps, mirrorSlots_);
     timer.split(stats.environmentMaps);
-    pipeline_.projectSH(maps);
+    pipeline_.projectSHSlots(bank.maps, updatedSlots_);
     timer.split(stats.sh);
-    pipeline_.prefilter(maps);
+    pipeline_.prefilterSlots(bank.maps, updatedSlots_);
     timer.split(stats.prefilter);
-    ++stats.mapsUpdated;
+    pointViews(bank.maps.mirror.name());
+    for (const int k : updatedSlots_)
+        probes_[bank.objects[size_t(k)]].ready = true;
+    stats.mapsUpdated += int(updatedSlots_.size());
 }
 
 std::span<const IblMaps* const>
@@ -305,16 +389,26 @@ EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const D
     if (options_.dynamic) {
         chooseUpdates(models, items, environment);
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
-        for (const size_t i : updates_) {
+        for (const size_t i : updates_)
+            slotOf(items[i].object);
+        for (size_t b = 0; b < banks_.size(); ++b) {
+            bankUpdates_.clear();
+            for (const size_t i : updates_)
+                if (slotOf(items[i].object).first == b)
+                    bankUpdates_.push_back(i);
+            if (bankUpdates_.empty())
+                continue;
             const double before = stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs;
-            renderProbe(i, models, items, environment, meshes, shadows, camera, profile,
-                        profile != nullptr || timeProbes, stats);
+            renderBank(b, bankUpdates_, models, items, environment, meshes, shadows, camera, profile,
+                       profile != nullptr || timeProbes, stats);
             if (timeProbes) {
-                const double cost = stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs - before;
+                const double cost = (stats.environmentMaps.wallMs + stats.sh.wallMs + stats.prefilter.wallMs - before) /
+                                    double(bankUpdates_.size());
                 probeCostMs_ = probeCostMs_ > 0.0 ? 0.8 * probeCostMs_ + 0.2 * cost : cost;
             }
-            // From now on this frame (later probes and the frame itself) sees the new maps.
-            maps_[i] = &probes_[items[i].object];
+            // From now on this frame (later banks and the frame itself) sees the new maps.
+            for (const size_t i : bankUpdates_)
+                maps_[i] = &probes_[items[i].object];
         }
     }
     ++frame_;

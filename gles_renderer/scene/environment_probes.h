@@ -3,6 +3,9 @@
 // real-environment skybox and the other objects shaded with their own maps as they stand
 // (one bounce of inter-reflection per frame). Which maps are re-rendered each frame follows
 // the configured policy; an object whose maps are not ready is lit by the real environment.
+// The objects' maps live in banks (ibl_maps.h): the maps of up to kBankSlots objects are
+// drawn in one pass per kind, so each face sees its neighbours as the previous frame left
+// them (DESIGN.md §6.1), read from the bank's other mirror texture.
 #pragma once
 
 #include <cstdint>
@@ -57,22 +60,58 @@ public:
         probes_.clear();
         history_.clear();
         phantomLayers_.clear();
+        for (Bank& bank : banks_)
+            bank.objects.assign(bank.objects.size(), -1);
     }
+    // Objects per bank (fewer where the mirror maps are large: a bank stays within 2048 px).
+    static constexpr int kBankSlots = 4;
 
 private:
     void rebuildEnvironmentMaps(const EnvironmentLighting& environment);
     // Which items get new maps this frame (indices into items).
     void chooseUpdates(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                        const EnvironmentLighting& environment);
-    void renderProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                     const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
-                     const CameraView& camera, RenderCpuClock* cpu, bool finish, RenderStats& stats);
+    // One object's part of its bank's mirror pass: the backdrop of its map (the real
+    // environment's, or its phantom layer, drawn here where stale) and how its faces draw
+    // the phantoms.
+    struct Probe {
+        size_t owner = 0; // index into items
+        glm::dvec3 centre{0.0};
+        const IblMaps* backdrop = nullptr;
+        MeshPass::Phantoms phantoms = MeshPass::Phantoms::Shaded;
+    };
+    Probe prepareProbe(size_t owner, const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                       const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
+                       const CameraView& camera, RenderStats& stats);
+    // Draws face `face` of `probe`'s map: the items but its owner (or the phantoms alone).
+    void drawProbeFace(const Probe& probe, int face, bool phantomsOnly, MeshPass::Phantoms phantoms,
+                       const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                       const EnvironmentLighting& environment, const MeshPass& meshes, const ShadowPass& shadows,
+                       const CameraView& camera, RenderStats& stats);
+    // Renders the maps of the listed updates (indices into items) of bank `bank`, all in
+    // one pass per kind.
+    void renderBank(size_t bank, std::span<const size_t> updates, const std::vector<GpuModel>& models,
+                    std::span<const DrawItem> items, const EnvironmentLighting& environment, const MeshPass& meshes,
+                    const ShadowPass& shadows, const CameraView& camera, RenderCpuClock* cpu, bool finish,
+                    RenderStats& stats);
+    // The bank and slot of `object`'s maps, given one where it has none yet.
+    std::pair<size_t, int> slotOf(int object);
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;
     IblMaps environmentMaps_;
     int environmentGeneration_ = -1;
-    std::map<int, IblMaps> probes_; // by DrawItem::object; node-based: pointers stay valid
+    // Banks of objects' maps. maps.mirror holds the mirror maps drawn last; previousMirror
+    // those of the pass before, which the next pass's faces read while it draws maps.mirror.
+    struct Bank {
+        IblMaps maps;
+        GlTexture previousMirror;
+        std::vector<int> objects; // per slot: the object, or -1
+    };
+    std::vector<Bank> banks_;
+    // Per object: a view of its slot (IblMaps::view). By DrawItem::object; node-based:
+    // pointers stay valid.
+    std::map<int, IblMaps> probes_;
     // OnChange: what each object's map last saw, and the updates still owed to the bounces.
     struct History {
         std::vector<glm::dmat4> scene;
@@ -108,6 +147,10 @@ private:
     std::vector<const IblMaps*> maps_;
     std::vector<size_t> updates_;
     std::vector<size_t> owners_;
+    std::vector<Probe> probesThisPass_;
+    std::vector<IblPipeline::MirrorSlot> mirrorSlots_;
+    std::vector<int> updatedSlots_;
+    std::vector<size_t> bankUpdates_;
     std::vector<DrawItem> faceItems_;
     std::vector<const IblMaps*> faceMaps_;
 };

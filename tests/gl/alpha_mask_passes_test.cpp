@@ -125,7 +125,7 @@ TEST(AlphaMask, CutOutLeafIsCutInTheEnvironmentMaps)
                         items);
         ASSERT_NE(renderer.objectMaps(0), nullptr);
         const IblSettings settings;
-        const CubeMapF sees = test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
+        const CubeMapF sees = test::readMirrorMap(*renderer.objectMaps(0), settings.mirrorSize);
         const ImageF& face = sees.faces[0]; // +X (the environment frame is the camera's here)
         for (size_t i = 0; i < face.data.size(); i += 3)
             red[mode == GltfAlphaMode::Mask] += face.data[i] > 1.0f && face.data[i + 1] < 0.5f;

@@ -84,12 +84,15 @@ TEST(EnvironmentProbes, EachMapShowsTheOtherObjectsButNeverItsOwner)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
     const Scene scene = makeScene(renderer);
-    renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), scene.items);
+    // Two frames: the faces show the neighbours with their maps of the frame before (the
+    // bounce checked at the end needs the sphere's first maps).
+    for (int frame = 0; frame < 2; ++frame)
+        renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), scene.items);
     const IblSettings settings;
     ASSERT_NE(renderer.objectMaps(0), nullptr);
     ASSERT_NE(renderer.objectMaps(1), nullptr);
-    const CubeMapF sphereSees = test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
-    const CubeMapF lampSees = test::readCubeAtlas(renderer.objectMaps(1)->mirror.name(), settings.mirrorSize);
+    const CubeMapF sphereSees = test::readMirrorMap(*renderer.objectMaps(0), settings.mirrorSize);
+    const CubeMapF lampSees = test::readMirrorMap(*renderer.objectMaps(1), settings.mirrorSize);
     // The environment frame is the camera's here (no rotation set): the lamp lies along +x
     // of the sphere. The sphere's map holds the lamp's emission (3.0) in its +X face.
     EXPECT_GT(maxOf(sphereSees.faces[0]).r, 2.5f);
@@ -148,6 +151,41 @@ TEST(EnvironmentProbes, MirrorSphereFacingARedLampTurnsRed)
     EXPECT_GT(dynamicMaps.x, 200);                        // the lamp's red, tone-mapped
     EXPECT_LT(dynamicMaps.y, environmentOnly.y);          // the grey it hides
     EXPECT_NEAR(environmentOnly.x, environmentOnly.y, 2); // plain grey reflection
+}
+
+// The maps are drawn in banks (ibl_maps.h), every object's faces in one pass: a face shows
+// its neighbours shaded with their maps as the previous frame left them, never with the
+// texture being drawn (nor what this pass drew into it). The lamp sees the chrome sphere:
+// after the first frame the sphere still wore the real environment's grey maps (no red in
+// the lamp's map); later it wears its own maps, which hold the red lamp. When the lamp turns
+// into a grey cube, the sphere's maps of the frame before still show it red for one frame.
+TEST(EnvironmentProbes, NeighboursWearTheirMapsOfThePreviousFrame)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    Scene scene = makeScene(renderer);
+    GltfModel greyCube = makeCube();
+    greyCube.materials[0].baseColorFactor = glm::vec4(0.2f, 0.2f, 0.2f, 1.0f);
+    const ModelId grey = renderer.addModel(greyCube);
+    const IblSettings settings;
+    const auto lampSeesOfSphere = [&] {
+        renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), scene.items);
+        EXPECT_NE(renderer.objectMaps(1), nullptr);
+        // The sphere lies along -x of the lamp: its -X face.
+        return maxOf(test::readMirrorMap(*renderer.objectMaps(1), settings.mirrorSize).faces[1]);
+    };
+    const glm::vec3 first = lampSeesOfSphere();
+    EXPECT_NEAR(first.r, 0.2f, 0.02f) << "the sphere wore this frame's maps already";
+    EXPECT_NEAR(first.r, first.g, 0.02f);
+    for (int frame = 2; frame <= 3; ++frame) {
+        const glm::vec3 later = lampSeesOfSphere();
+        EXPECT_GT(later.r, first.r + 0.2f) << "frame " << frame << ": the sphere does not reflect the lamp";
+        EXPECT_NEAR(later.g, first.g, 0.02f) << "frame " << frame;
+    }
+    scene.items[1].model = grey; // the same object (slot), no longer a lamp
+    const glm::vec3 turned = lampSeesOfSphere();
+    EXPECT_GT(turned.r, first.r + 0.2f) << "the sphere wore the maps drawn in this frame's pass";
+    const glm::vec3 after = lampSeesOfSphere();
+    EXPECT_LT(after.r, first.r + 0.05f) << "the sphere still shows the lamp a frame later";
 }
 
 TEST(EnvironmentProbes, PoliciesUpdateTheMapsTheyPromise)
@@ -385,7 +423,7 @@ TEST(EnvironmentProbes, PhantomLayerIsReusedUntilThePhantomMoves)
     const auto sphereSees = [&] {
         renderer.render(background, intrinsics(), scene.items);
         EXPECT_NE(renderer.objectMaps(0), nullptr);
-        return test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
+        return test::readMirrorMap(*renderer.objectMaps(0), settings.mirrorSize);
     };
 
     const CubeMapF first = sphereSees(); // the phantom shaded directly (not yet seen still)

@@ -33,14 +33,15 @@ inline ImageF readTexture2D(GLuint texture, int width, int height, GLenum target
 // Level `level` of a cube map held as a 2D atlas (gles_renderer/ibl_gpu/ibl_maps.h) whose
 // faces are `size` px a side at level 0: each face read from its cell. Row y of a face is GL
 // row y (t near 0 first), as cube_map.h addresses faces.
-inline CubeMapF readCubeAtlas(GLuint atlas, int size, int level = 0)
+// `slot` of a bank of `slots` atlases (ibl_maps.h): the atlas from row slot x its height.
+inline CubeMapF readCubeAtlas(GLuint atlas, int size, int level = 0, int slot = 0, int slots = 1)
 {
     CubeMapF out;
     out.size = std::max(1, size >> level);
     const glm::ivec2 extent = glm::max(cubeAtlasSize(size) >> level, glm::ivec2(1));
-    const ImageF whole = readTexture2D(atlas, extent.x, extent.y, GL_TEXTURE_2D, level);
+    const ImageF whole = readTexture2D(atlas, extent.x, extent.y * slots, GL_TEXTURE_2D, level);
     for (int face = 0; face < 6; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) >> level;
+        const glm::ivec2 origin = (cubeAtlasCellOrigin(face, size) >> level) + glm::ivec2(0, slot * extent.y);
         ImageF image(out.size, out.size, 3);
         for (int y = 0; y < out.size; ++y)
             for (int x = 0; x < out.size; ++x)
@@ -48,6 +49,13 @@ inline CubeMapF readCubeAtlas(GLuint atlas, int size, int level = 0)
         out.faces[size_t(face)] = std::move(image);
     }
     return out;
+}
+
+// The mirror map of a set, or of a bank's slot (IblMaps::textures()).
+inline CubeMapF readMirrorMap(const IblMaps& maps, int size)
+{
+    const IblTextures t = maps.textures();
+    return readCubeAtlas(t.mirror, size, 0, t.slot, t.slots);
 }
 
 // The same for an RGBA8 RGBM atlas (shaders_es/rgbm.glsl, range 16), decoded.

@@ -427,8 +427,8 @@ TEST(PhantomCamera, PartsTheCameraCannotSeeKeepTheConfiguredColour)
     ASSERT_NE(renderer.objectMaps(0), nullptr);
     ASSERT_NE(renderer.objectMaps(1), nullptr);
     const IblSettings settings;
-    const CubeMapF frontMap = test::readCubeAtlas(renderer.objectMaps(0)->mirror.name(), settings.mirrorSize);
-    const CubeMapF backMap = test::readCubeAtlas(renderer.objectMaps(1)->mirror.name(), settings.mirrorSize);
+    const CubeMapF frontMap = test::readMirrorMap(*renderer.objectMaps(0), settings.mirrorSize);
+    const CubeMapF backMap = test::readMirrorMap(*renderer.objectMaps(1), settings.mirrorSize);
     // The environment frame is the camera's (no rotation set): directions are camera-frame.
     const glm::vec3 hiddenCentre = sampleCubeNearest(frontMap, glm::vec3(glm::dvec3(0.0, 0.0, 0.7) - inFront));
     const glm::vec3 visibleEdge = sampleCubeNearest(frontMap, glm::vec3(glm::dvec3(0.09, 0.0, 0.7) - inFront));
