@@ -1,7 +1,9 @@
 // Builds IblMaps on the GPU: renders the mirror map face by face (the caller draws each
 // face's content, the pipeline offers the real-environment skybox), then projects it to SH
 // with uniformly spaced samples (sh_project + sh_reduce), renders the diffuse map from the
-// SH and the two glossy maps by Phong prefiltering (phong_prefilter).
+// SH and the two glossy maps by Phong prefiltering (phong_prefilter). Each step runs for
+// one set, or for several slots of a bank (ibl_maps.h) in the same single pass: llvmpipe's
+// cost per pass, not per texel, dominates for maps this small.
 #pragma once
 
 #include <functional>
