@@ -59,12 +59,12 @@ inline CubeMapF readMirrorMap(const IblMaps& maps, int size)
 }
 
 // The same for an RGBA8 RGBM atlas (shaders_es/rgbm.glsl, range 16), decoded.
-inline CubeMapF readCubeAtlasRgbm(GLuint atlas, int size, int level = 0)
+inline CubeMapF readCubeAtlasRgbm(GLuint atlas, int size, int level = 0, int slot = 0, int slots = 1)
 {
     CubeMapF out;
     out.size = std::max(1, size >> level);
     const glm::ivec2 extent = glm::max(cubeAtlasSize(size) >> level, glm::ivec2(1));
-    const int width = extent.x, height = extent.y;
+    const int width = extent.x, height = extent.y * slots;
     GlFramebuffer framebuffer = GlFramebuffer::create();
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, atlas, level);
@@ -72,7 +72,7 @@ inline CubeMapF readCubeAtlasRgbm(GLuint atlas, int size, int level = 0)
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     for (int face = 0; face < 6; ++face) {
-        const glm::ivec2 origin = cubeAtlasCellOrigin(face, size) >> level;
+        const glm::ivec2 origin = (cubeAtlasCellOrigin(face, size) >> level) + glm::ivec2(0, slot * extent.y);
         ImageF image(out.size, out.size, 3);
         for (int y = 0; y < out.size; ++y)
             for (int x = 0; x < out.size; ++x) {
