@@ -97,8 +97,9 @@ private:
     void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
     // Sets the receiver program's occluders (and reachSpheres_).
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
-    // Where in the viewport the receivers can be darkened, as disjoint rectangles: the parts
-    // of each receiver inside a caster's prism along the light, and within reach of an occluder.
+    // Where in the viewport the receivers can be darkened, as disjoint rectangles: the tiles
+    // (tile_cover.h) that the parts of each receiver inside a caster's prism along the light,
+    // or within reach of an occluder, touch (all of it without ShadowOptions::cullReceivers).
     [[nodiscard]] std::vector<PixelRect> darkenedRects(const FrameUniforms& frame, const std::vector<GpuModel>& models,
                                                        std::span<const DrawItem> items) const;
 
