@@ -60,6 +60,9 @@ struct ShadowOptions {
     // Frame pixels per texel, along x and y, of the buffer the real surfaces' darkening is
     // shaded in (1, 2 or 4; ShadowPass, by its kRatioUnit, says why 2).
     int receiverScale = 2;
+    // Shade the darkening only in the tiles where a shadow or a contact can fall (ShadowPass);
+    // false shades the whole buffer, a reference for tests.
+    bool cullReceivers = true;
 };
 
 // Lens effects on the virtual objects' light (DESIGN.md §6.5, gles_renderer/scene/lens_effects.h):

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -17,6 +18,7 @@
 #include "gles_renderer/scene/mesh_features.h"
 #include "gles_renderer/scene/mesh_pass.h"
 #include "gles_renderer/scene/stage_timer.h"
+#include "gles_renderer/scene/tile_cover.h"
 
 namespace lumar {
 namespace {
@@ -36,6 +38,13 @@ constexpr GLfloat kOffsetUnits = 4.0f;
 constexpr double kMarginTexels = 2.0;
 // phantom_receiver.frag's kOcclusionReach: occluders darken within this many radii.
 constexpr double kOcclusionReach = 2.0;
+// shadow.glsl's normal offset: the lookups move a point this many texels along its normal.
+constexpr double kNormalOffsetTexels = 1.5;
+// The tiles the darkening is culled to (frame pixels; ShadowPass::darkenedRects), and the
+// band around each place a shadow or a contact can fall that they include (buffer texels: the
+// apply pass upsamples each pixel from the texels around it).
+constexpr int kCoverTilePixels = 32;
+constexpr double kCoverMarginTexels = 1.5;
 
 std::array<glm::dvec3, 8> boxCorners(const GpuModel& model, const glm::dmat4& cameraFromModel)
 {
@@ -70,32 +79,53 @@ bool finite(const glm::dvec3& v)
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// Grows `rect` by the window-space bounds of the rectangle [uvLow, uvHigh] of the plane
-// x[axis] = plane of a model frame (`cameraFromModel`); by the whole viewport where the
-// rectangle reaches behind the camera.
-void addFaceRect(const glm::dmat4& cameraFromModel, int axis, double plane, const glm::dvec2& uvLow,
-                 const glm::dvec2& uvHigh, const glm::dmat4& clipFromCamera, int width, int height, PixelRect& rect)
+// The part of the convex polygon `polygon` (a face's (u, v) coordinates) inside the face's
+// rectangle [low, high] (Sutherland-Hodgman, one side at a time).
+std::vector<glm::dvec2> clipToFace(std::vector<glm::dvec2> polygon, const glm::dvec2& low, const glm::dvec2& high)
 {
-    if (!(uvLow.x <= uvHigh.x && uvLow.y <= uvHigh.y))
-        return; // empty (or not finite)
+    for (int side = 0; side < 4 && !polygon.empty(); ++side) {
+        const int axis = side / 2;
+        const double bound = side % 2 ? high[axis] : low[axis];
+        const auto inside = [&](const glm::dvec2& p) { return side % 2 ? p[axis] <= bound : p[axis] >= bound; };
+        std::vector<glm::dvec2> kept;
+        for (size_t i = 0; i < polygon.size(); ++i) {
+            const glm::dvec2& a = polygon[i];
+            const glm::dvec2& b = polygon[(i + 1) % polygon.size()];
+            if (inside(a))
+                kept.push_back(a);
+            if (inside(a) != inside(b))
+                kept.push_back(a + (b - a) * ((bound - a[axis]) / (b[axis] - a[axis])));
+        }
+        polygon = std::move(kept);
+    }
+    return polygon;
+}
+
+// Marks the tiles of `cover` that the convex polygon `uv` of the plane x[axis] = plane of a
+// model frame (`cameraFromModel`) covers in the window (a projection keeps a convex polygon in
+// front of the camera convex); every tile where the polygon reaches behind the camera.
+void coverFacePolygon(const glm::dmat4& cameraFromModel, int axis, double plane, std::span<const glm::dvec2> uv,
+                      const glm::dmat4& clipFromCamera, int width, int height, double margin, TileCover& cover)
+{
+    if (uv.empty())
+        return;
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int i = 0; i < 4; ++i) {
-        glm::dvec3 local(plane);
-        local[u] = (i & 1) ? uvHigh.x : uvLow.x;
-        local[v] = (i & 2) ? uvHigh.y : uvLow.y;
-        const glm::dvec4 clip = clipFromCamera * (cameraFromModel * glm::dvec4(local, 1.0));
+    const glm::dmat4 clipFromModel = clipFromCamera * cameraFromModel;
+    std::vector<glm::dvec2> window;
+    window.reserve(uv.size());
+    for (const glm::dvec2& p : uv) {
+        glm::dvec4 local(0.0, 0.0, 0.0, 1.0);
+        local[axis] = plane;
+        local[u] = p.x;
+        local[v] = p.y;
+        const glm::dvec4 clip = clipFromModel * local;
         if (!(clip.w > 1e-6)) {
-            rect = {0, 0, width, height};
+            cover.addAll();
             return;
         }
-        const double x = std::clamp((clip.x / clip.w * 0.5 + 0.5) * width, 0.0, double(width));
-        const double y = std::clamp((clip.y / clip.w * 0.5 + 0.5) * height, 0.0, double(height));
-        const PixelRect pixel{std::max(int(std::floor(x)) - 1, 0), std::max(int(std::floor(y)) - 1, 0),
-                              std::min(int(std::ceil(x)) + 1, width), std::min(int(std::ceil(y)) + 1, height)};
-        rect = rect.empty() ? pixel
-                            : PixelRect{std::min(rect.x0, pixel.x0), std::min(rect.y0, pixel.y0),
-                                        std::max(rect.x1, pixel.x1), std::max(rect.y1, pixel.y1)};
+        window.emplace_back((clip.x / clip.w * 0.5 + 0.5) * width, (clip.y / clip.w * 0.5 + 0.5) * height);
     }
+    cover.addConvex(window, margin);
 }
 
 } // namespace
@@ -350,8 +380,9 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
         glm::dvec4(-2.0 * centre.x / side, -2.0 * centre.y / side, -2.0 * nearZ / (farZ - nearZ) - 1.0, 1.0);
     lightClipFromCamera_ = clipFromLightView * lightViewFromCamera;
     lightViewFromCamera_ = lightViewFromCamera;
-    // The kernel reaches (softness + 1) texels beyond a caster's outline.
-    const double reach = (options_.softness + 1.0) * texelMetres_;
+    // The kernel reaches (softness + 1) texels beyond a caster's outline, from a point the
+    // lookups move by up to kNormalOffsetTexels (shadow.glsl's normal offset).
+    const double reach = (options_.softness + 1.0 + kNormalOffsetTexels) * texelMetres_;
     for (auto& [prismLow, prismHigh] : casterPrisms_) {
         prismLow = glm::dvec3(glm::dvec2(prismLow) - reach, nearZ);
         prismHigh = glm::dvec3(glm::dvec2(prismHigh) + reach, farZ);
@@ -524,15 +555,19 @@ std::vector<PixelRect> ShadowPass::darkenedRects(const FrameUniforms& frame, con
     GLint viewport[4] = {};
     glGetIntegerv(GL_VIEWPORT, viewport);
     const int width = viewport[2], height = viewport[3];
+    TileCover cover(width, height, std::max(kCoverTilePixels / ratio_.scale, 1));
+    if (!options_.cullReceivers) {
+        cover.addAll();
+        return cover.rects();
+    }
     const glm::dmat4 clipFromCamera(frame.clipFromCamera);
     const glm::dmat4 cameraFromLightView = glm::inverse(lightViewFromCamera_);
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    std::vector<PixelRect> rects;
     // Each face of each receiver's box is a plane: on it a caster's shadow lies inside the
-    // section of the caster's prism along the light (the four long edges' intersections),
-    // and an occluder's contact darkening inside its reach (a box around its ellipsoid). Their
-    // bounding rectangles in the face, cut to the face, projected: tight where the bounding
-    // box of a flat table in the light's frame would be most of the frame.
+    // section of the caster's prism along the light (the parallelogram where its four long
+    // edges meet the plane), and an occluder's contact darkening inside the section of its
+    // reach (the ellipsoid kOcclusionReach times its own: an ellipse). Those, cut to the face
+    // and projected, mark the tiles to shade. (Their bounding rectangles covered most of a
+    // table: the car scene's contact reaches and long evening shadows lie across it.)
     for (const DrawItem& item : items) {
         if (!item.phantom)
             continue;
@@ -550,12 +585,9 @@ std::vector<PixelRect> ShadowPass::darkenedRects(const FrameUniforms& frame, con
             glm::dvec3 outward(0.0);
             outward[axis] = face % 2 ? 1.0 : -1.0;
             const glm::dvec2 faceLow(low[u], low[v]), faceHigh(high[u], high[v]);
-            const auto add = [&](const glm::dvec2& boxLow, const glm::dvec2& boxHigh) {
-                PixelRect rect;
-                addFaceRect(item.cameraFromModel, axis, plane, glm::max(boxLow, faceLow), glm::min(boxHigh, faceHigh),
-                            clipFromCamera, width, height, rect);
-                if (!rect.empty())
-                    rects.push_back(rect);
+            const auto add = [&](std::vector<glm::dvec2> polygon) {
+                coverFacePolygon(item.cameraFromModel, axis, plane, clipToFace(std::move(polygon), faceLow, faceHigh),
+                                 clipFromCamera, width, height, kCoverMarginTexels, cover);
             };
             // A face turned away from the camera is hidden by the others (or culled).
             glm::dvec3 faceCentre = 0.5 * (low + high);
@@ -566,32 +598,52 @@ std::vector<PixelRect> ShadowPass::darkenedRects(const FrameUniforms& frame, con
             const bool facesLight = glm::dot(normal, lightDirection_) > 0.0;
             if (mapValid_ && facesLight && std::abs(travel[axis]) > 1e-12)
                 for (const auto& [prismLow, prismHigh] : casterPrisms_) {
-                    glm::dvec2 boxLow(inf), boxHigh(-inf);
-                    for (int i = 0; i < 4; ++i) {
+                    std::vector<glm::dvec2> section;
+                    for (const int i : {0, 1, 3, 2}) { // around the prism
                         const glm::dvec3 edge((i & 1) ? prismHigh.x : prismLow.x, (i & 2) ? prismHigh.y : prismLow.y,
                                               prismLow.z);
                         const glm::dvec3 p(modelFromCamera * (cameraFromLightView * glm::dvec4(edge, 1.0)));
                         const glm::dvec3 hit = p + travel * ((plane - p[axis]) / travel[axis]);
-                        boxLow = glm::min(boxLow, glm::dvec2(hit[u], hit[v]));
-                        boxHigh = glm::max(boxHigh, glm::dvec2(hit[u], hit[v]));
+                        section.emplace_back(hit[u], hit[v]);
                     }
-                    add(boxLow, boxHigh);
+                    add(std::move(section));
                 }
             for (const glm::dmat4& cameraFromUnit : reachBoxes_) {
-                glm::dvec3 boxLow(inf), boxHigh(-inf);
-                for (int i = 0; i < 8; ++i) {
-                    const glm::dvec3 corner =
-                        kOcclusionReach * glm::dvec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-                    const glm::dvec3 p(modelFromCamera * (cameraFromUnit * glm::dvec4(corner, 1.0)));
-                    boxLow = glm::min(boxLow, p);
-                    boxHigh = glm::max(boxHigh, p);
+                // The face's plane in the occluder's unit space: q(a, b) = q0 + a qu + b qv at
+                // (u, v) = (a, b). Its points within the reach, |q| < kOcclusionReach, are the
+                // ellipse (x - c)^T G (x - c) < r^2 with G = [qu qv]^T [qu qv].
+                const glm::dmat4 unitFromModel = glm::inverse(cameraFromUnit) * item.cameraFromModel;
+                glm::dvec4 origin(0.0, 0.0, 0.0, 1.0);
+                origin[axis] = plane;
+                const glm::dvec3 q0(unitFromModel * origin);
+                const glm::dvec3 qu(unitFromModel[u]), qv(unitFromModel[v]);
+                const glm::dmat2 g(glm::dot(qu, qu), glm::dot(qu, qv), glm::dot(qu, qv), glm::dot(qv, qv));
+                const double gDeterminant = glm::determinant(g);
+                if (!(gDeterminant > 0.0) || !std::isfinite(gDeterminant))
+                    continue;
+                const glm::dvec2 centre = -(glm::inverse(g) * glm::dvec2(glm::dot(qu, q0), glm::dot(qv, q0)));
+                const glm::dvec3 nearest = q0 + centre.x * qu + centre.y * qv;
+                const double r2 = kOcclusionReach * kOcclusionReach - glm::dot(nearest, nearest);
+                if (!(r2 > 0.0))
+                    continue;
+                // G = L L^T (Cholesky): x = c + r L^-T w maps the unit circle onto the ellipse;
+                // a polygon circumscribed about the circle onto one about the ellipse.
+                const double l11 = std::sqrt(g[0][0]), l21 = g[0][1] / l11;
+                const double l22 = std::sqrt(std::max(g[1][1] - l21 * l21, 1e-300));
+                const glm::dmat2 fromCircle =
+                    std::sqrt(r2) * glm::inverse(glm::transpose(glm::dmat2(l11, l21, 0.0, l22)));
+                constexpr int kSides = 16;
+                const double grow = 1.0 / std::cos(std::numbers::pi / kSides);
+                std::vector<glm::dvec2> ellipse;
+                for (int k = 0; k < kSides; ++k) {
+                    const double angle = 2.0 * std::numbers::pi * k / kSides;
+                    ellipse.push_back(centre + fromCircle * (grow * glm::dvec2(std::cos(angle), std::sin(angle))));
                 }
-                if (boxLow[axis] <= plane && plane <= boxHigh[axis])
-                    add(glm::dvec2(boxLow[u], boxLow[v]), glm::dvec2(boxHigh[u], boxHigh[v]));
+                add(std::move(ellipse));
             }
         }
     }
-    return disjointCover(rects);
+    return cover.rects();
 }
 
 void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<GpuModel>& models,

@@ -271,6 +271,72 @@ TEST(Shadows, EveryReceiverResolutionGivesTheSameShadow)
     EXPECT_LT(differing, 2 * kHeight) << "pixels outside the shadow darkened at half resolution";
 }
 
+// ShadowPass shades the darkening only in the tiles where a shadow's parallelogram or a
+// contact's ellipse falls (tile_cover.h): the frame equals the one shaded over the whole
+// buffer (+-1). Seen obliquely (so the receivers' faces project with perspective), a ground
+// phantom with a real box on it, under a low light: a floating box's shadow, a turned box and
+// a sphere standing on the ground (contacts, shadows across the ground and onto the real box).
+TEST(Shadows, TheCulledDarkeningEqualsTheWholeBuffersShading)
+{
+    // From (0.45, -0.55, 0.5) m towards (0, 0.05, 0): x right, y down, z forward.
+    const glm::dvec3 eye(0.45, -0.55, 0.5), forward = glm::normalize(glm::dvec3(0.0, 0.05, 0.0) - eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 0.0, 1.0)));
+    const glm::dvec3 down = glm::cross(forward, right);
+    glm::dmat4 cameraFromWorld(1.0);
+    for (int c = 0; c < 3; ++c) {
+        cameraFromWorld[c][0] = right[c];
+        cameraFromWorld[c][1] = down[c];
+        cameraFromWorld[c][2] = forward[c];
+    }
+    cameraFromWorld[3] = glm::dvec4(-glm::dot(right, eye), -glm::dot(down, eye), -glm::dot(forward, eye), 1.0);
+    const auto at = [&](const glm::dvec3& centre, const glm::dvec3& size, double headingDeg) {
+        const double h = headingDeg * kPi / 180.0;
+        glm::dmat4 m(1.0);
+        m[0] = glm::dvec4(size.x * std::cos(h), size.x * std::sin(h), 0.0, 0.0);
+        m[1] = glm::dvec4(-size.y * std::sin(h), size.y * std::cos(h), 0.0, 0.0);
+        m[2] = glm::dvec4(0.0, 0.0, size.z, 0.0);
+        m[3] = glm::dvec4(centre, 1.0);
+        return cameraFromWorld * m;
+    };
+    std::vector<Image8> images;
+    for (int scale : {1, 4})
+        for (bool cull : {true, false}) {
+            RenderOptions options = shadowsOn();
+            options.shadows.receiverScale = scale;
+            options.shadows.cullReceivers = cull;
+            LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
+            renderer.setEnvironment(test::uniformEnvironment(1.0f), 1.0f);
+            renderer.setEnvironmentRotation(environmentFromWorld() * glm::dmat3(glm::inverse(cameraFromWorld)));
+            renderer.setLight(light(worldDirection(30.0, 140.0), 2.0f));
+            const ModelId cube = renderer.addModel(makeCube());
+            const ModelId sphere = renderer.addModel(makeUvSphere(24, 12));
+            const DrawItem items[] = {
+                {cube, at({0.0, 0.0, -0.01}, {1.2, 1.2, 0.02}, 0.0), -1, true},     // the ground
+                {cube, at({-0.12, 0.1, 0.04}, {0.08, 0.08, 0.08}, 10.0), -1, true}, // a real box
+                {cube, at({0.05, -0.05, 0.2}, {0.06, 0.1, 0.02}, 25.0), -1},        // floating
+                {cube, at({0.1, 0.12, 0.03}, {0.12, 0.05, 0.06}, 30.0), -1},        // standing, turned
+                {sphere, at({-0.05, -0.12, 0.04}, glm::dvec3(0.08), 0.0), -1},
+            };
+            images.push_back(renderOverGrey(renderer, items));
+        }
+    for (int scale = 0; scale < 2; ++scale) {
+        const Image8& culled = images[size_t(2 * scale)];
+        const Image8& whole = images[size_t(2 * scale + 1)];
+        int darkened = 0, differing = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const int d = std::abs(int(culled.at(x, y)[c]) - int(whole.at(x, y)[c]));
+                    differing += d > 1;
+                    EXPECT_LE(d, 1) << "scale " << (scale ? 4 : 1) << " at " << x << "," << y;
+                    darkened += c == 1 && whole.at(x, y)[c] < kGrey - 4;
+                    if (differing > 10)
+                        return;
+                }
+        EXPECT_GT(darkened, 1500) << "too little darkening to compare";
+    }
+}
+
 // At a fraction of the frame's resolution the darkening is upsampled depth-aware: a real box
 // (a phantom, 0.1 m tall, its left edge at x = 0.021) stands on the ground phantom, and a
 // floating box's shadow on the ground runs up to the box's edge, while on the box's top (a

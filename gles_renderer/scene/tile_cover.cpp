@@ -1,0 +1,102 @@
+#include "gles_renderer/scene/tile_cover.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lumar {
+
+TileCover::TileCover(int width, int height, int tile)
+    : width_(std::max(width, 1)), height_(std::max(height, 1)), tile_(std::max(tile, 1)),
+      columns_((width_ + tile_ - 1) / tile_), rows_((height_ + tile_ - 1) / tile_),
+      cells_(size_t(columns_) * size_t(rows_), 0)
+{
+}
+
+void TileCover::addAll()
+{
+    std::fill(cells_.begin(), cells_.end(), 1);
+}
+
+void TileCover::markRow(int row, double x0, double x1)
+{
+    if (!(x1 >= 0.0 && x0 < double(width_)))
+        return;
+    const int first = std::clamp(int(std::floor(x0 / tile_)), 0, columns_ - 1);
+    const int last = std::clamp(int(std::floor(x1 / tile_)), 0, columns_ - 1);
+    std::fill(cells_.begin() + row * columns_ + first, cells_.begin() + row * columns_ + last + 1, 1);
+}
+
+void TileCover::addConvex(std::span<const glm::dvec2> polygon, double margin)
+{
+    if (polygon.empty())
+        return;
+    double yLow = std::numeric_limits<double>::infinity(), yHigh = -yLow;
+    for (const glm::dvec2& p : polygon) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+            addAll();
+            return;
+        }
+        yLow = std::min(yLow, p.y);
+        yHigh = std::max(yHigh, p.y);
+    }
+    if (!(yHigh + margin >= 0.0 && yLow - margin < double(height_)))
+        return;
+    const int firstRow = std::clamp(int(std::floor((yLow - margin) / tile_)), 0, rows_ - 1);
+    const int lastRow = std::clamp(int(std::floor((yHigh + margin) / tile_)), 0, rows_ - 1);
+    for (int row = firstRow; row <= lastRow; ++row) {
+        // The polygon's extent along x within the row's band (grown by the margin): its
+        // vertices inside the band and its edges' crossings of the band's two lines.
+        const double band0 = double(row * tile_) - margin, band1 = double((row + 1) * tile_) + margin;
+        double xLow = std::numeric_limits<double>::infinity(), xHigh = -xLow;
+        for (size_t i = 0; i < polygon.size(); ++i) {
+            const glm::dvec2& a = polygon[i];
+            const glm::dvec2& b = polygon[(i + 1) % polygon.size()];
+            if (band0 <= a.y && a.y <= band1) {
+                xLow = std::min(xLow, a.x);
+                xHigh = std::max(xHigh, a.x);
+            }
+            for (const double y : {band0, band1})
+                if ((a.y - y) * (b.y - y) < 0.0) {
+                    const double x = a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x);
+                    xLow = std::min(xLow, x);
+                    xHigh = std::max(xHigh, x);
+                }
+        }
+        if (xLow <= xHigh)
+            markRow(row, xLow - margin, xHigh + margin);
+    }
+}
+
+std::vector<PixelRect> TileCover::rects() const
+{
+    std::vector<PixelRect> cover;
+    std::vector<PixelRect> previousRow; // the runs of the row above, still open
+    for (int row = 0; row < rows_; ++row) {
+        const int y0 = row * tile_, y1 = std::min((row + 1) * tile_, height_);
+        std::vector<PixelRect> runs;
+        for (int column = 0; column < columns_; ++column) {
+            if (!marked(column, row))
+                continue;
+            const int x0 = column * tile_, x1 = std::min((column + 1) * tile_, width_);
+            if (!runs.empty() && runs.back().x1 == x0)
+                runs.back().x1 = x1;
+            else
+                runs.push_back({x0, y0, x1, y1});
+        }
+        for (PixelRect& run : runs)
+            for (PixelRect& above : previousRow)
+                if (above.x0 == run.x0 && above.x1 == run.x1) {
+                    run.y0 = above.y0;
+                    above = PixelRect{}; // taken over
+                }
+        for (const PixelRect& above : previousRow)
+            if (!above.empty())
+                cover.push_back(above);
+        previousRow = std::move(runs);
+    }
+    cover.insert(cover.end(), previousRow.begin(), previousRow.end());
+    return cover;
+}
+
+} // namespace lumar
