@@ -377,7 +377,7 @@ GPU would otherwise overlap with the next stage; --no-profile measures without t
             "forwards and back, as a device's camera delivers them: the fake camera's\n"
             "own drawing is left out (without it: the live camera, \"source\": \"live\")");
     addInteger(*c, "--replay-frames", o.replayFrames, {1, 300},
-               "frames held for --replay (default 8: 3.7 MB each at 1280x720)");
+               "frames held for --replay (default 4: 3.7 MB each at 1280x720)");
     addConfigLogLevel(*c, o.config);
     c->footer("lumar bench --tracking [options] scores the tag tracker instead (see 'lumar bench --tracking --help').");
     return {c, [&o] { return benchCommand(o); }};
