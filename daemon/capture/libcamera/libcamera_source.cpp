@@ -255,10 +255,7 @@ void LibcameraSource::shutdown() noexcept
         camera_->requestCompleted.disconnect(this);
         camera_->disconnected.disconnect(this);
     }
-    {
-        const std::lock_guard lock(mutex_);
-        completed_.clear();
-    }
+    completed_.clear();
     requests_.clear();
     lent_.clear();    // stopped: none of them is to be queued again
     buffers_.clear(); // unmapped, but for those frames still hold (they keep their own dmabufs)
@@ -275,34 +272,25 @@ void LibcameraSource::shutdown() noexcept
 
 void LibcameraSource::onRequestCompleted(libcamera::Request* request)
 {
-    {
-        const std::lock_guard lock(mutex_);
-        completed_.push_back(request);
-    }
-    completedChanged_.notify_one();
+    completed_.push(request);
 }
 
 void LibcameraSource::onDisconnected()
 {
-    {
-        const std::lock_guard lock(mutex_);
-        disconnected_ = true;
-    }
-    completedChanged_.notify_one();
+    completed_.disconnect();
 }
 
 libcamera::Request* LibcameraSource::waitForRequest(std::chrono::steady_clock::time_point deadline)
 {
-    std::unique_lock lock(mutex_);
-    completedChanged_.wait_until(lock, deadline, [this] { return disconnected_ || !completed_.empty(); });
-    if (disconnected_) {
+    libcamera::Request* request = nullptr;
+    switch (completed_.waitUntil(deadline, request)) {
+    case CompletionQueue<libcamera::Request*>::Wait::Disconnected:
         throw RuntimeError("libcamera: camera " + cameraId_ + " disconnected");
-    }
-    if (completed_.empty()) {
+    case CompletionQueue<libcamera::Request*>::Wait::Timeout:
         return nullptr;
+    case CompletionQueue<libcamera::Request*>::Wait::Item:
+        break;
     }
-    libcamera::Request* request = completed_.front();
-    completed_.pop_front();
     return request;
 }
 

@@ -12,17 +12,15 @@
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "capture/capture_source.h"
+#include "capture/libcamera/completion_queue.h"
 #include "capture/v4l2/ycbcr_to_rgb.h"
 
 namespace libcamera {
@@ -130,10 +128,7 @@ private:
     YCbCrConverter converter_{YCbCrColorimetry{}};
 
     // Filled on libcamera's thread, drained by next().
-    std::mutex mutex_;
-    std::condition_variable completedChanged_;
-    std::deque<libcamera::Request*> completed_;
-    bool disconnected_ = false;
+    CompletionQueue<libcamera::Request*> completed_;
 
     std::optional<uint32_t> lastSequence_;
     uint64_t framesDropped_ = 0;
