@@ -85,7 +85,7 @@ uniform sampler2D uTransmission;      // linear r: x the transmission factor
 #ifndef MAPS_RGBM
 #define MAPS_RGBM (frameParams.z > 0.5)
 #endif
-#ifndef WRITES_RADIANCE // a cube face of an environment map, not the frame
+#ifndef WRITES_RADIANCE // a cube face of an environment map, not the frame (never fixed: mesh_features.h)
 #define WRITES_RADIANCE (frameParams.y > 0.5)
 #endif
 #ifndef GLOSS_FLOOR // the least glossiness of the lobe (mesh_features.h glossFeatures)

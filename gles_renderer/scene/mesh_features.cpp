@@ -12,8 +12,6 @@ uint32_t viewFeatures(const FrameUniforms& frame)
         features |= mesh_feature::kShadow;
     if (frame.frameParams.z > 0.5f)
         features |= mesh_feature::kRgbmMaps;
-    if (frame.frameParams.y > 0.5f)
-        features |= mesh_feature::kWritesRadiance;
     return features;
 }
 
@@ -60,7 +58,6 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kTransmission, "HAS_TRANSMISSION"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
-        {mesh_feature::kWritesRadiance, "WRITES_RADIANCE"},
     };
     std::string defines;
     for (const auto& [bit, macro] : kMacros)

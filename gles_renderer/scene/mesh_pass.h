@@ -2,6 +2,7 @@
 // environment maps: pass 2 of a frame, and the other objects inside a cube-map face.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -93,6 +94,9 @@ public:
         GLint normalFromMeshLocation = -1;
         GLint mapSlotLocation = -1; // uMapSlot: the environment maps' slot in their bank
     };
+
+    // How many variants are linked (each ~1 MB resident on llvmpipe).
+    [[nodiscard]] size_t linkedVariants() const { return variants_.size(); }
 
 private:
     // The variant for `features`, linked on first use.

@@ -1,0 +1,111 @@
+// MeshPass links one variant of mesh.frag per material for every view: the frame and the
+// environment maps' cube faces share it, the uniform choosing the output (sRGB-encoded,
+// tone-mapped codes in the frame; linear radiance in a face). Each linked program costs
+// ~1 MB resident on llvmpipe, and the car scene's 9 materials once linked 18.
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+#include "gl_readback.h"
+#include "gl_test_support.h"
+#include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/gl/gpu_texture.h"
+#include "gles_renderer/ibl/cube_face_camera.h"
+#include "gles_renderer/ibl_gpu/ibl_pipeline.h"
+#include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/mesh_pass.h"
+
+namespace lumar {
+namespace {
+
+constexpr int kSize = 32;
+constexpr float kEmission = 3.0f;
+constexpr float kExposure = 0.2f; // the frame's radiance 0.6: below the response's knee
+
+GltfModel lamp()
+{
+    GltfModel model = makeCube();
+    GltfMaterial& m = model.materials[0];
+    m.baseColorFactor = glm::vec4(0, 0, 0, 1);
+    m.emissiveFactor = glm::vec3(kEmission, 0.0f, 0.0f);
+    return model;
+}
+
+TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEncoding)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize); // for its GL context
+    (void)renderer;
+    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    std::vector<GpuModel> gpu;
+    gpu.push_back(uploadModel(lamp(), defaults));
+    IblPipeline pipeline;
+    IblMaps grey = pipeline.createMaps();
+    pipeline.renderMirror(grey, nullptr, [](int) {
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+    });
+    pipeline.updateDerivedMaps(grey);
+    const std::vector<const IblMaps*> lighting = {&grey};
+    MeshPass meshes;
+
+    // A cube face: the lamp 0.2 m ahead fills the middle of the +X face (the face camera
+    // looks along +z of its own frame).
+    const int faceSize = pipeline.settings().mirrorSize;
+    IblMaps face = pipeline.createMaps();
+    pipeline.renderMirror(face, nullptr, [&](int f) {
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        const glm::dmat4 faceFromCube(faceCameraFromCube(f));
+        const DrawItem item{0, faceFromCube * test::translation(0.2, 0.0, 0.0) * glm::dmat4(glm::dmat3(0.1))};
+        FrameUniforms frame;
+        frame.clipFromCamera = glm::mat4(clipFromCamera(faceIntrinsics(faceSize), faceSize, faceSize, 0.002));
+        const glm::mat3 environmentFromFace(glm::transpose(faceCameraFromCube(f)));
+        for (int c = 0; c < 3; ++c)
+            frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
+        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline.rgbm() ? 1.0f : 0.0f, 1.0f);
+        const DrawItem items[] = {item};
+        meshes.draw(frame, gpu, items, lighting, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Full, 0.0);
+    });
+    const CubeMapF seen = pipeline.rgbm() ? test::readCubeAtlasRgbm(face.mirror.name(), faceSize)
+                                          : test::readCubeAtlas(face.mirror.name(), faceSize);
+    const ImageF& plusX = seen.faces[0];
+    const size_t centre = 3 * (size_t(faceSize / 2) * size_t(faceSize) + size_t(faceSize / 2));
+    // Linear radiance, beyond what a tone-mapped code could hold.
+    EXPECT_NEAR(plusX.data[centre], kEmission, 0.05f * kEmission);
+    EXPECT_NEAR(plusX.data[centre + 1], 0.0f, 0.01f);
+
+    // The frame: an RGBA8 target, the lamp 0.5 m ahead filling its middle.
+    GlTexture colour = GlTexture::create();
+    glBindTexture(GL_TEXTURE_2D, colour.name());
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
+    GlRenderbuffer depth = GlRenderbuffer::create();
+    glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
+    GlFramebuffer target = GlFramebuffer::create();
+    glBindFramebuffer(GL_FRAMEBUFFER, target.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
+    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    glViewport(0, 0, kSize, kSize);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
+    FrameUniforms frame;
+    frame.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, kSize, kSize));
+    frame.frameParams = glm::vec4(1.0f, 0.0f, pipeline.rgbm() ? 1.0f : 0.0f, kExposure);
+    const DrawItem items[] = {{0, test::translation(0.0, 0.0, 0.5) * glm::dmat4(glm::dmat3(0.1))}};
+    meshes.draw(frame, gpu, items, lighting, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Full, 0.0);
+    uint8_t pixel[4] = {};
+    glReadPixels(kSize / 2, kSize / 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    // Tone-mapped and sRGB-encoded (linear 0.6 would be code 153).
+    EXPECT_NEAR(int(pixel[0]), test::toneMappedCode(kExposure * kEmission), 2);
+    EXPECT_EQ(int(pixel[1]), 0);
+
+    // One material, two views: one program.
+    EXPECT_EQ(meshes.linkedVariants(), 1U);
+}
+
+} // namespace
+} // namespace lumar
