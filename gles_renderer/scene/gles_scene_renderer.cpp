@@ -324,6 +324,10 @@ private:
         // Start the rasteriser now (llvmpipe's worker threads), so CPU work the caller does
         // before readback() overlaps with it.
         glFlush();
+        // The frame's programs are linked by now (MeshPass links its variants on first use):
+        // Mesa then frees the GLSL compiler's built-in function library (~MB resident) until
+        // the next compile, which builds it again. A no-op where nothing was compiled since.
+        glReleaseShaderCompiler();
     }
 
     [[nodiscard]] RenderCpuClock* profiler() { return profile_ ? &cpuClock_ : nullptr; }
