@@ -190,7 +190,15 @@ void EnvironmentProbes::chooseUpdates(const std::vector<GpuModel>& models, std::
     roundRobin_ = (roundRobin_ + std::min(count, affordable)) % count;
 }
 
-std::pair<size_t, int> EnvironmentProbes::slotOf(int object)
+bool EnvironmentProbes::hasSlot(int object) const
+{
+    for (const Bank& bank : banks_)
+        if (std::find(bank.objects.begin(), bank.objects.end(), object) != bank.objects.end())
+            return true;
+    return false;
+}
+
+std::pair<size_t, int> EnvironmentProbes::slotOf(int object, int wanted)
 {
     for (size_t b = 0; b < banks_.size(); ++b)
         for (size_t k = 0; k < banks_[b].objects.size(); ++k)
@@ -203,7 +211,7 @@ std::pair<size_t, int> EnvironmentProbes::slotOf(int object)
                 return {b, int(k)};
             }
     Bank bank;
-    const int slots = pipeline_.maxBankSlots(kBankSlots);
+    const int slots = pipeline_.maxBankSlots(std::clamp(wanted, 1, kBankSlots));
     bank.maps = pipeline_.createMaps(slots);
     bank.previousMirror = pipeline_.createMirror(slots);
     bank.objects.assign(size_t(slots), -1);
@@ -389,8 +397,12 @@ EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const D
     if (options_.dynamic) {
         chooseUpdates(models, items, environment);
         const bool timeProbes = options_.policy == EnvironmentMapPolicy::Budget;
+        int unslotted = 0; // map owners without a slot: what a new bank is sized for
+        for (const size_t i : owners_)
+            unslotted += hasSlot(items[i].object) ? 0 : 1;
         for (const size_t i : updates_)
-            slotOf(items[i].object);
+            if (!hasSlot(items[i].object))
+                slotOf(items[i].object, unslotted--);
         for (size_t b = 0; b < banks_.size(); ++b) {
             bankUpdates_.clear();
             for (const size_t i : updates_)

@@ -94,8 +94,11 @@ private:
                     std::span<const DrawItem> items, const EnvironmentLighting& environment, const MeshPass& meshes,
                     const ShadowPass& shadows, const CameraView& camera, RenderCpuClock* cpu, bool finish,
                     RenderStats& stats);
-    // The bank and slot of `object`'s maps, given one where it has none yet.
-    std::pair<size_t, int> slotOf(int object);
+    // The bank and slot of `object`'s maps, given one where it has none yet. A new bank
+    // gets `wanted` slots (at most kBankSlots): the objects still without one, so a scene
+    // of fewer objects does not pay for kBankSlots sets of maps.
+    std::pair<size_t, int> slotOf(int object, int wanted = kBankSlots);
+    [[nodiscard]] bool hasSlot(int object) const;
 
     EnvironmentMapOptions options_;
     IblPipeline pipeline_;
