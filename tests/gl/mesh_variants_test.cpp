@@ -107,5 +107,32 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
     EXPECT_EQ(meshes.linkedVariants(), 1U);
 }
 
+// The renderer releases the GLSL compiler after each frame (Mesa frees its built-in
+// functions): a model loaded later whose material needs a variant not linked yet (a reload
+// that adds it) still gets it compiled, and draws as it should.
+TEST(MeshVariants, AVariantFirstNeededAfterTheCompilerWasReleasedStillRenders)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize);
+    renderer.setEnvironment(test::uniformEnvironment(0.0f), 1.0f); // emission alone lights
+    const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
+    const auto centreAfterFrame = [&](const GltfMaterial& material) {
+        renderer.removeModels();
+        const DrawItem item{renderer.addModel(test::cameraFacingRectangle(-0.2f, -0.2f, 0.2f, 0.2f, material)),
+                            test::translation(0, 0, 1)};
+        renderer.render(test::solidImage(kSize, kSize, 0, 0, 0), intrinsics, {&item, 1});
+        Image8 out;
+        renderer.readback(out);
+        const uint8_t* p = out.at(kSize / 2, kSize / 2);
+        return glm::ivec3(p[0], p[1], p[2]);
+    };
+    GltfMaterial plain;
+    plain.baseColorFactor = glm::vec4(0, 0, 0, 1);
+    EXPECT_EQ(centreAfterFrame(plain), glm::ivec3(0));
+    const GltfMaterial lamp = test::emissiveMaterial(glm::vec3(0.5f, 0.0f, 0.0f));
+    const glm::ivec3 lit = centreAfterFrame(lamp);
+    EXPECT_NEAR(lit.r, test::toneMappedCode(0.5), 2);
+    EXPECT_EQ(lit.g, 0);
+}
+
 } // namespace
 } // namespace lumar
