@@ -11,10 +11,13 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sys/syscall.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "run_lumar.h"
 
@@ -52,6 +55,15 @@ size_t count(const std::string& text, const std::string& what)
     for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
         ++found;
     return found;
+}
+
+// The ids of the process' threads now.
+std::vector<pid_t> threadsOf(pid_t pid)
+{
+    std::vector<pid_t> ids;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task"))
+        ids.push_back(pid_t(std::stol(entry.path().filename().string())));
+    return ids;
 }
 
 class RunUnderTsan : public ::testing::Test {
@@ -106,10 +118,16 @@ TEST_F(RunUnderTsan, ReloadsBySignalAndEditWhileFramesFlowReportNoRace)
     frames = waitForFrames(frames + 10, 1, std::chrono::seconds(60));
     ASSERT_GT(frames, 0) << "no frames with the object after the new tracker\n" << log();
 
-    // A SIGHUP storm: the handler runs on whichever thread the kernel picks, during frames and
-    // during the reloads it causes (each reload of the unchanged file keeps everything).
+    // A SIGHUP storm, during frames and during the reloads it causes (each reload of the
+    // unchanged file keeps everything). The kernel hands a process's signal to any thread that
+    // does not block it, mostly the main one: here each of lumar's threads in turn gets it
+    // (the capture thread, the worker, llvmpipe's), so the handler's write and the loop's read
+    // are on different threads.
+    const std::vector<pid_t> threads = threadsOf(pid);
+    ASSERT_GT(threads.size(), 2u);
     for (int i = 0; i < 50; ++i) {
-        ASSERT_EQ(::kill(pid, SIGHUP), 0);
+        // A thread may have ended meanwhile (ESRCH): the next one gets the signal.
+        ::syscall(SYS_tgkill, pid, threads[size_t(i) % threads.size()], SIGHUP);
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     ASSERT_TRUE(waitForLog("reloaded ", 2, std::chrono::seconds(60))) << log();
