@@ -19,9 +19,10 @@
 #   scripts/tsan.sh [ctest regex]        environment: LUMAR_TSAN_BUILD, JOBS, RUN_S (default 8),
 #                                        RELOADS (default 2), TESTS=0 (only lumar and its run)
 # tests/tsan.supp lists what TSan may ignore: third-party code only, each with its reason.
-# The suite runs a small part of this on every build: ctest label `tsan` (tests/tsan) rebuilds only
-# the threaded classes and their tests with TSan (about a minute); this script instruments all of
-# lumar, the libraries those threads call included, and runs the daemon.
+# The suite runs a smaller part of this on every build: ctest label `tsan` (tests/tsan) rebuilds
+# only the threaded classes, their tests and `lumar run`'s loop with TSan (about 2 minutes), and
+# runs that loop through its reloads; this script instruments all of lumar, the libraries those
+# threads call included (the renderer, the config, the tracking), and runs the shipped scene.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${LUMAR_TSAN_BUILD:-$root/build-tsan}
