@@ -24,6 +24,7 @@ uniform bool uRgbm; // source and face are RGBA8 RGBM (no float render targets)
 in vec3 vFaceDirection;
 out vec4 fragColor;
 
+#include "cube_atlas.glsl"
 #include "rgbm.glsl"
 
 void main()
@@ -32,15 +33,7 @@ void main()
     vec3 helper = abs(r.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
     vec3 t = normalize(cross(helper, r));
     vec3 b = cross(r, t);
-    // cubeBankUv at level 0 with everything that does not depend on the sample computed
-    // once per fragment: llvmpipe's JIT keeps uniform arithmetic inside the loop, and the
-    // lookup's ALU work costs as much as the fetch for these small maps. The same
-    // arithmetic as cube_atlas.glsl, regrouped: uv = cell * cellScale + st * stScale + offset.
-    float faceSize = uAtlasSize.y / uSlot.y * 0.5;
-    float stMin = 0.5 / faceSize;
-    vec2 cellScale = vec2(1.0 / 3.0, 0.5 / uSlot.y);
-    vec2 stScale = vec2(faceSize / uAtlasSize.x, 0.5 / uSlot.y);
-    vec2 offset = vec2(0.0, uSlot.x / uSlot.y);
+    CubeBankLevel level = cubeBankLevel(uAtlasSize, uSlot, 0.0); // once, not per sample
     // decodeMapTexel folded into the weight: a float texel's alpha is 1 (scale 1 exactly).
     float alphaScale = uRgbm ? kRgbmRange : 0.0;
     float alphaBias = uRgbm ? 0.0 : 1.0;
@@ -48,18 +41,7 @@ void main()
     for (int k = 0; k < uSampleCount; ++k) {
         vec4 s = uSamples[k];
         vec3 d = t * s.x + b * s.y + r * s.z;
-        vec3 a = abs(d);
-        bool xMajor = a.x >= a.y && a.x >= a.z;
-        bool yMajor = !xMajor && a.y >= a.z;
-        float ma = xMajor ? a.x : (yMajor ? a.y : a.z);
-        float positive = xMajor ? d.x : (yMajor ? d.y : d.z);
-        float side = positive > 0.0 ? 1.0 : -1.0;
-        vec2 cell = xMajor ? vec2(0.0, 0.0) : (yMajor ? vec2(2.0, 0.0) : vec2(1.0, 1.0));
-        cell.x += positive > 0.0 ? 0.0 : 1.0;
-        cell = cell.x > 2.5 ? vec2(0.0, 1.0) : cell;
-        vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
-        vec2 st = clamp(sctc / (2.0 * ma) + 0.5, stMin, 1.0 - stMin);
-        vec4 texel = textureLod(uEnvironment, cell * cellScale + st * stScale + offset, 0.0);
+        vec4 texel = textureLod(uEnvironment, cubeBankLevelUv(d, level), 0.0);
         sum += texel.rgb * (s.w * (texel.a * alphaScale + alphaBias));
     }
     fragColor = encodeMapTexel(sum, uRgbm);
