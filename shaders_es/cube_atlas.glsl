@@ -51,3 +51,43 @@ vec2 cubeBankUv(vec3 d, vec2 bankSize, vec2 slot, float lod)
     vec2 uv = cubeAtlasUv(d, vec2(bankSize.x, bankSize.y / slot.y), lod);
     return vec2(uv.x, (uv.y + slot.x) / slot.y);
 }
+
+// cubeBankUv split for loops of lookups in one slot at one level (the SH projection and the
+// glossy prefilter): llvmpipe's JIT keeps uniform arithmetic inside a loop, so what does
+// not depend on the direction is computed once (cubeBankLevel) and each lookup
+// (cubeBankLevelUv) does the face selection, the clamp and uv = cell * cellScale +
+// st * stScale + offset: cubeBankUv's arithmetic, regrouped.
+struct CubeBankLevel {
+    vec2 cellScale;
+    vec2 stScale;
+    vec2 offset;
+    float stMin; // the clamp: half a texel of the level
+};
+
+CubeBankLevel cubeBankLevel(vec2 bankSize, vec2 slot, float lod)
+{
+    float faceSize = bankSize.y / slot.y * 0.5;
+    CubeBankLevel l;
+    l.cellScale = vec2(1.0 / 3.0, 0.5 / slot.y);
+    l.stScale = vec2(faceSize / bankSize.x, 0.5 / slot.y);
+    l.offset = vec2(0.0, slot.x / slot.y);
+    l.stMin = 0.5 / max(faceSize * exp2(-lod), 1.0);
+    return l;
+}
+
+vec2 cubeBankLevelUv(vec3 d, CubeBankLevel l)
+{
+    vec3 a = abs(d);
+    bool xMajor = a.x >= a.y && a.x >= a.z;
+    bool yMajor = !xMajor && a.y >= a.z;
+    float ma = xMajor ? a.x : (yMajor ? a.y : a.z);
+    float positive = xMajor ? d.x : (yMajor ? d.y : d.z);
+    float side = positive > 0.0 ? 1.0 : -1.0;
+    // Face f's cell (f % 3, f / 3), f = 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
+    vec2 cell = xMajor ? vec2(0.0, 0.0) : (yMajor ? vec2(2.0, 0.0) : vec2(1.0, 1.0));
+    cell.x += positive > 0.0 ? 0.0 : 1.0;
+    cell = cell.x > 2.5 ? vec2(0.0, 1.0) : cell;
+    vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
+    vec2 st = clamp(sctc / (2.0 * ma) + 0.5, l.stMin, 1.0 - l.stMin);
+    return cell * l.cellScale + st * l.stScale + l.offset;
+}

@@ -33,10 +33,16 @@ void main()
     vec3 helper = abs(r.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
     vec3 t = normalize(cross(helper, r));
     vec3 b = cross(r, t);
+    CubeBankLevel level = cubeBankLevel(uAtlasSize, uSlot, 0.0); // once, not per sample
+    // decodeMapTexel folded into the weight: a float texel's alpha is 1 (scale 1 exactly).
+    float alphaScale = uRgbm ? kRgbmRange : 0.0;
+    float alphaBias = uRgbm ? 0.0 : 1.0;
     vec3 sum = vec3(0.0);
     for (int k = 0; k < uSampleCount; ++k) {
         vec4 s = uSamples[k];
-        sum += decodeMapTexel(textureLod(uEnvironment, cubeBankUv(t * s.x + b * s.y + r * s.z, uAtlasSize, uSlot, 0.0), 0.0), uRgbm) * s.w;
+        vec3 d = t * s.x + b * s.y + r * s.z;
+        vec4 texel = textureLod(uEnvironment, cubeBankLevelUv(d, level), 0.0);
+        sum += texel.rgb * (s.w * (texel.a * alphaScale + alphaBias));
     }
     fragColor = encodeMapTexel(sum, uRgbm);
 }

@@ -11,9 +11,18 @@ uniform vec2 uSlot;      // the slot read and the bank's slot count (cube_atlas.
 
 #include "cube_atlas.glsl"
 
+// Set once per fragment before the sample loop (prepareRadiance, sh_project.glsl).
+CubeBankLevel gLevel;
+
+void prepareRadiance()
+{
+    gLevel = cubeBankLevel(uAtlasSize, uSlot, 0.0);
+}
+#define SH_PREPARE_RADIANCE
+
 vec3 radianceAt(vec3 d)
 {
-    return textureLod(uEnvironment, cubeBankUv(d, uAtlasSize, uSlot, 0.0), 0.0).rgb;
+    return textureLod(uEnvironment, cubeBankLevelUv(d, gLevel), 0.0).rgb;
 }
 
 #include "sh_basis.glsl"

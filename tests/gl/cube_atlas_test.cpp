@@ -5,7 +5,8 @@
 // and at a mip level. Each face holds a constant of its own in red (10, 20, ... 60) and
 // gradients in green and blue: a texel of a neighbouring cell blended in moves red by at
 // least 10 times its weight; the texels of the cells that no face covers (cells are at least
-// 64 px wide) hold 1000.
+// 64 px wide) hold 1000. cubeBankLevelUv (the same lookup split for sample loops) must find
+// the same atlas coordinates.
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -39,7 +40,11 @@ out vec4 fragColor;
 void main()
 {
     vec3 d = texelFetch(uDirections, ivec2(gl_FragCoord.xy), 0).xyz;
-    fragColor = textureLod(uAtlas, cubeAtlasUv(d, uAtlasSize, uLod), uLod);
+    vec2 uv = cubeAtlasUv(d, uAtlasSize, uLod);
+    // The split lookup of the sample loops must find the same place: otherwise the lookup
+    // reads the right end of cell 2, past the face (1000).
+    vec2 split = cubeBankLevelUv(d, cubeBankLevel(uAtlasSize, vec2(0.0, 1.0), uLod));
+    fragColor = textureLod(uAtlas, distance(uv, split) < 1e-5 ? uv : vec2(0.999, 0.25), uLod);
 }
 )";
 
