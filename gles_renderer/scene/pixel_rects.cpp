@@ -21,8 +21,7 @@ std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects)
             return !r.empty() && r.x0 <= x0 && x0 < r.x1 && r.y0 <= y0 && y0 < r.y1;
         });
     };
-    std::vector<PixelRect> cover;
-    std::vector<PixelRect> previousRow; // the runs of the row above, still open
+    RowRunMerger merger;
     for (size_t j = 0; j + 1 < ys.size(); ++j) {
         std::vector<PixelRect> row;
         for (size_t i = 0; i + 1 < xs.size(); ++i) {
@@ -33,20 +32,29 @@ std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects)
             else
                 row.push_back({xs[i], ys[j], xs[i + 1], ys[j + 1]});
         }
-        // A run with the same span as one just above continues that rectangle downwards.
-        for (PixelRect& run : row)
-            for (PixelRect& above : previousRow)
-                if (above.x0 == run.x0 && above.x1 == run.x1 && above.y1 == run.y0) {
-                    run.y0 = above.y0;
-                    above = PixelRect{}; // taken over
-                }
-        for (const PixelRect& above : previousRow)
-            if (!above.empty())
-                cover.push_back(above);
-        previousRow = std::move(row);
+        merger.addRow(std::move(row));
     }
-    cover.insert(cover.end(), previousRow.begin(), previousRow.end());
-    return cover;
+    return std::move(merger).finish();
+}
+
+void RowRunMerger::addRow(std::vector<PixelRect> runs)
+{
+    for (PixelRect& run : runs)
+        for (PixelRect& above : previousRow_)
+            if (above.x0 == run.x0 && above.x1 == run.x1 && above.y1 == run.y0) {
+                run.y0 = above.y0;
+                above = PixelRect{}; // taken over
+            }
+    for (const PixelRect& above : previousRow_)
+        if (!above.empty())
+            cover_.push_back(above);
+    previousRow_ = std::move(runs);
+}
+
+std::vector<PixelRect> RowRunMerger::finish() &&
+{
+    cover_.insert(cover_.end(), previousRow_.begin(), previousRow_.end());
+    return std::move(cover_);
 }
 
 } // namespace lumar

@@ -19,4 +19,19 @@ struct PixelRect {
 // span in consecutive rows merged into one rectangle.
 std::vector<PixelRect> disjointCover(std::span<const PixelRect> rects);
 
+// Rectangles built a row of runs at a time (disjointCover, TileCover): a run with the same
+// span as one in the row just above continues that rectangle downwards, so a tall region of
+// equal width becomes one rectangle instead of one per row.
+class RowRunMerger {
+public:
+    // `runs`: one row's disjoint runs, all spanning the same rows, below the rows added before.
+    void addRow(std::vector<PixelRect> runs);
+    // The rectangles: disjoint, their union the union of every run added.
+    [[nodiscard]] std::vector<PixelRect> finish() &&;
+
+private:
+    std::vector<PixelRect> cover_;
+    std::vector<PixelRect> previousRow_; // the runs of the row above, still open
+};
+
 } // namespace lumar

@@ -70,8 +70,7 @@ void TileCover::addConvex(std::span<const glm::dvec2> polygon, double margin)
 
 std::vector<PixelRect> TileCover::rects() const
 {
-    std::vector<PixelRect> cover;
-    std::vector<PixelRect> previousRow; // the runs of the row above, still open
+    RowRunMerger merger;
     for (int row = 0; row < rows_; ++row) {
         const int y0 = row * tile_, y1 = std::min((row + 1) * tile_, height_);
         std::vector<PixelRect> runs;
@@ -84,19 +83,9 @@ std::vector<PixelRect> TileCover::rects() const
             else
                 runs.push_back({x0, y0, x1, y1});
         }
-        for (PixelRect& run : runs)
-            for (PixelRect& above : previousRow)
-                if (above.x0 == run.x0 && above.x1 == run.x1) {
-                    run.y0 = above.y0;
-                    above = PixelRect{}; // taken over
-                }
-        for (const PixelRect& above : previousRow)
-            if (!above.empty())
-                cover.push_back(above);
-        previousRow = std::move(runs);
+        merger.addRow(std::move(runs));
     }
-    cover.insert(cover.end(), previousRow.begin(), previousRow.end());
-    return cover;
+    return std::move(merger).finish();
 }
 
 } // namespace lumar
