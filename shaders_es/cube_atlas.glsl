@@ -12,51 +12,16 @@
 // stays inside the face: (s, t) is clamped half a texel inside it, so no texel of a
 // neighbouring cell is read (cube_map.h's sampleCubeBilinear does the same on the CPU).
 
-// Atlas coordinates of direction d (need not be unit) in an atlas of atlasSize texels at
-// level 0 (textureSize(atlas, 0)), for a lookup at mip level lod (the clamp is half a
-// texel of that level). Mipmapped atlases have cells as wide as their faces.
-vec2 cubeAtlasUv(vec3 d, vec2 atlasSize, float lod)
-{
-    vec3 a = abs(d);
-    // Selects, not branches: llvmpipe runs every side of a branch.
-    bool xMajor = a.x >= a.y && a.x >= a.z;
-    bool yMajor = !xMajor && a.y >= a.z;
-    float ma = xMajor ? a.x : (yMajor ? a.y : a.z);
-    float positive = xMajor ? d.x : (yMajor ? d.y : d.z);
-    float face = (xMajor ? 0.0 : (yMajor ? 2.0 : 4.0)) + (positive > 0.0 ? 0.0 : 1.0);
-    float side = positive > 0.0 ? 1.0 : -1.0;
-    //   +X: (-z, -y)  -X: (+z, -y)  +Y: (x, +z)  -Y: (x, -z)  +Z: (+x, -y)  -Z: (-x, -y)
-    vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
-    vec2 st = sctc / (2.0 * ma) + 0.5;
-    float faceSize = atlasSize.y * 0.5;
-    float texels = max(faceSize * exp2(-lod), 1.0);
-    st = clamp(st, 0.5 / texels, 1.0 - 0.5 / texels);
-    float row = face > 2.5 ? 1.0 : 0.0;
-    vec2 cell = vec2(face - 3.0 * row, row);
-    // The face's share of its cell's width.
-    return (cell + st * vec2(faceSize * 3.0 / atlasSize.x, 1.0)) * vec2(1.0 / 3.0, 0.5);
-}
-
 // The size of an atlas's base level (the level a lookup at lod 0 reads).
 vec2 cubeAtlasSize(sampler2D atlas)
 {
     return vec2(textureSize(atlas, 0));
 }
 
-// The same lookup in slot slot.x of a bank of slot.y atlases stacked bottom to top
-// (gles_renderer/ibl_gpu/ibl_maps.h): bankSize is the whole texture's size (at the level
-// read, as atlasSize above); slot (0, 1) is a single atlas.
-vec2 cubeBankUv(vec3 d, vec2 bankSize, vec2 slot, float lod)
-{
-    vec2 uv = cubeAtlasUv(d, vec2(bankSize.x, bankSize.y / slot.y), lod);
-    return vec2(uv.x, (uv.y + slot.x) / slot.y);
-}
-
-// cubeBankUv split for loops of lookups in one slot at one level (the SH projection and the
-// glossy prefilter): llvmpipe's JIT keeps uniform arithmetic inside a loop, so what does
-// not depend on the direction is computed once (cubeBankLevel) and each lookup
-// (cubeBankLevelUv) does the face selection, the clamp and uv = cell * cellScale +
-// st * stScale + offset: cubeBankUv's arithmetic, regrouped.
+// A lookup in one slot of a bank at one level, in two parts: what does not depend on the
+// direction (cubeBankLevel), computed once by loops of lookups (the SH projection, the glossy
+// prefilter: llvmpipe's JIT keeps uniform arithmetic inside a loop), and the face selection,
+// the clamp and uv = cell * cellScale + st * stScale + offset (cubeBankLevelUv).
 struct CubeBankLevel {
     vec2 cellScale;
     vec2 stScale;
@@ -90,4 +55,19 @@ vec2 cubeBankLevelUv(vec3 d, CubeBankLevel l)
     vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
     vec2 st = clamp(sctc / (2.0 * ma) + 0.5, l.stMin, 1.0 - l.stMin);
     return cell * l.cellScale + st * l.stScale + l.offset;
+}
+
+// Atlas coordinates of direction d (need not be unit) in slot slot.x of a bank of slot.y
+// atlases stacked bottom to top (gles_renderer/ibl_gpu/ibl_maps.h): bankSize is the whole
+// texture's size at level 0 (textureSize(bank, 0)), for a lookup at mip level lod (the clamp
+// is half a texel of that level). Mipmapped atlases have cells as wide as their faces.
+vec2 cubeBankUv(vec3 d, vec2 bankSize, vec2 slot, float lod)
+{
+    return cubeBankLevelUv(d, cubeBankLevel(bankSize, slot, lod));
+}
+
+// The same in a single atlas of atlasSize texels at level 0.
+vec2 cubeAtlasUv(vec3 d, vec2 atlasSize, float lod)
+{
+    return cubeBankUv(d, atlasSize, vec2(0.0, 1.0), lod);
 }
