@@ -9,16 +9,16 @@ uniform ivec2 uCellOrigin;  // the fragment of (row 0, coefficient 0): a bank sl
 
 out vec4 fragColor;
 
-// sh_basis.glsl's Y_j(d) = a + dot(b, d) + dot(c, d * d) + dot(e, d * d.yzx): basis
+// sh_basis.glsl's Y_j(d) (its constants: include it first) = a + dot(b, d) + dot(c, d * d) + dot(e, d * d.yzx): basis
 // function j's terms picked once per fragment, so the sample loop indexes no array (llvmpipe
 // keeps a local array indexed by a non-constant in memory, stored and loaded every sample).
-const float kShA[9] = float[9](0.282095, 0.0, 0.0, 0.0, 0.0, 0.0, -0.315392, 0.0, 0.0);
-const vec3 kShB[9] = vec3[9](vec3(0.0), vec3(0.0, 0.488603, 0.0), vec3(0.0, 0.0, 0.488603), vec3(0.488603, 0.0, 0.0),
-                             vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
-const vec3 kShC[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0, 0.0, 0.946176),
-                             vec3(0.0), vec3(0.546274, -0.546274, 0.0));
-const vec3 kShE[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(1.092548, 0.0, 0.0), vec3(0.0, 1.092548, 0.0),
-                             vec3(0.0), vec3(0.0, 0.0, 1.092548), vec3(0.0));
+const float kShA[9] = float[9](kSh00, 0.0, 0.0, 0.0, 0.0, 0.0, -kSh20, 0.0, 0.0);
+const vec3 kShB[9] = vec3[9](vec3(0.0), vec3(0.0, kSh1, 0.0), vec3(0.0, 0.0, kSh1), vec3(kSh1, 0.0, 0.0), vec3(0.0),
+                             vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+const vec3 kShC[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0),
+                             vec3(0.0, 0.0, 3.0 * kSh20), vec3(0.0), vec3(kSh22, -kSh22, 0.0));
+const vec3 kShE[9] = vec3[9](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(kSh2Mixed, 0.0, 0.0),
+                             vec3(0.0, kSh2Mixed, 0.0), vec3(0.0), vec3(0.0, 0.0, kSh2Mixed), vec3(0.0));
 
 void main()
 {
