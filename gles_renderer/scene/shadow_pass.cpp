@@ -312,20 +312,33 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
     if (first != items.end()) {
         glm::dmat4 stableFromCamera(environmentFromCamera);
         stableFromCamera[3] = glm::dvec4(-(environmentFromCamera * glm::dvec3(first->cameraFromModel[3])), 1.0);
-        if (fitLightCamera(models, items, stableFromCamera, freshFit_)) {
-            freshCasters_.clear();
-            for (const DrawItem& item : items)
-                if (isCaster(item))
-                    freshCasters_.push_back({item.model, models[size_t(item.model)].poseGeneration,
-                                             stableFromCamera * item.cameraFromModel});
-            if (!sameMap(freshFit_, freshCasters_)) {
+        if (fitLightCamera(models, items, stableFromCamera, freshFit_, freshCasters_)) {
+            PixelRect part;
+            switch (compareMap(freshFit_, freshCasters_, part)) {
+            case Redraw::All:
                 std::swap(fit_, freshFit_);
                 std::swap(drawnCasters_, freshCasters_);
                 drawnLightDirection_ = light_.direction;
                 linkDepthProgram();
-                drawCasters(models, items, stableFromCamera);
+                drawCasters(models, items, nullptr);
                 drawn_ = true;
                 stats.shadowMapDrawn = 1.0;
+                break;
+            case Redraw::Part:
+                // The animated casters' keys and prisms are this frame's; the others' and the
+                // fit stay (equal within compareMap's tolerance).
+                for (size_t i = 0; i < freshCasters_.size(); ++i)
+                    if (freshCasters_[i].poseGeneration != drawnCasters_[i].poseGeneration)
+                        drawnCasters_[i] = freshCasters_[i];
+                std::swap(fit_.prisms, freshFit_.prisms);
+                if (!part.empty()) {
+                    drawCasters(models, items, &part);
+                    stats.shadowMapDrawn =
+                        double(part.x1 - part.x0) * double(part.y1 - part.y0) / (double(size_) * size_);
+                }
+                break;
+            case Redraw::None:
+                break;
             }
             // The map as drawn (this frame or before), seen from this frame's camera.
             lightClipFromCamera_ = fit_.lightClipFromStable * stableFromCamera;
@@ -337,34 +350,67 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
         timer.split(stats.shadows);
 }
 
-bool ShadowPass::sameMap(const LightFit& fit, const std::vector<CasterKey>& casters) const
+ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector<CasterKey>& casters,
+                                          PixelRect& part) const
 {
     if (!drawn_ || light_.direction != drawnLightDirection_ || casters.size() != drawnCasters_.size())
-        return false;
+        return Redraw::All;
     // Floating-point noise of poses composed from one marker and the environment's rotation
     // from the same marker: far below a texel (a map of 4096 over 1 cm has 2.4 um texels).
     constexpr double kMetres = 1e-7;
     constexpr double kLinear = 1e-7;
     if (glm::length(fit.centre - fit_.centre) > kMetres || std::abs(fit.side - fit_.side) > kMetres ||
         std::abs(fit.nearZ - fit_.nearZ) > kMetres || std::abs(fit.farZ - fit_.farZ) > kMetres)
-        return false;
+        return Redraw::All;
+    bool posed = false;
+    part = {size_, size_, 0, 0};
     for (size_t i = 0; i < casters.size(); ++i) {
         const CasterKey& a = drawnCasters_[i];
         const CasterKey& b = casters[i];
-        if (a.model != b.model || a.poseGeneration != b.poseGeneration)
-            return false;
+        if (a.model != b.model)
+            return Redraw::All;
         for (int c = 0; c < 3; ++c)
             if (glm::length(glm::dvec3(a.stableFromModel[c] - b.stableFromModel[c])) >
                 kLinear * glm::length(glm::dvec3(a.stableFromModel[c])))
-                return false;
+                return Redraw::All;
         if (glm::length(glm::dvec3(a.stableFromModel[3] - b.stableFromModel[3])) > kMetres)
-            return false;
+            return Redraw::All;
+        if (a.poseGeneration == b.poseGeneration)
+            continue;
+        // Posed where it stands (an animation): its depth changes where it was and where it is.
+        posed = true;
+        for (const PixelRect& r : {texelsOf(a.low, a.high), texelsOf(b.low, b.high)})
+            if (!r.empty())
+                part = {std::min(part.x0, r.x0), std::min(part.y0, r.y0), std::max(part.x1, r.x1),
+                        std::max(part.y1, r.y1)};
     }
-    return true;
+    if (!posed)
+        return Redraw::None;
+    // Most of the map: drawn whole (no scissor, one clear).
+    constexpr double kWholeShare = 0.5;
+    if (!part.empty() && double(part.x1 - part.x0) * double(part.y1 - part.y0) > kWholeShare * size_ * size_)
+        return Redraw::All;
+    return Redraw::Part;
+}
+
+PixelRect ShadowPass::texelsOf(const glm::dvec2& low, const glm::dvec2& high) const
+{
+    if (!(low.x <= high.x && low.y <= high.y))
+        return {};
+    // The stand-ins drawn stray up to a texel from the model's box (proxyLevelFor), and a
+    // triangle covers the texels whose centres it contains.
+    constexpr double kMarginTexels = 2.0;
+    const auto texel = [&](double v, double centre) { return ((v - centre) / fit_.side + 0.5) * size_; };
+    const auto clamp = [&](double t) { return int(std::clamp(t, 0.0, double(size_))); };
+    return {clamp(std::floor(texel(low.x, fit_.centre.x) - kMarginTexels)),
+            clamp(std::floor(texel(low.y, fit_.centre.y) - kMarginTexels)),
+            clamp(std::ceil(texel(high.x, fit_.centre.x) + kMarginTexels)),
+            clamp(std::ceil(texel(high.y, fit_.centre.y) + kMarginTexels))};
 }
 
 bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                const glm::dmat4& stableFromCamera, LightFit& fit) const
+                                const glm::dmat4& stableFromCamera, LightFit& fit,
+                                std::vector<CasterKey>& casters) const
 {
     // The light camera's axes are chosen in the environment frame (fixed to the world), so the
     // map's texel grid does not turn with the camera.
@@ -384,6 +430,7 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
     glm::dvec3 low(inf), high(-inf);
     double receiversFar = -inf;
     fit.prisms.clear();
+    casters.clear();
     for (const DrawItem& item : items) {
         glm::dvec3 itemLow(inf), itemHigh(-inf);
         for (const glm::dvec3& corner : boxCorners(models[size_t(item.model)], item.cameraFromModel)) {
@@ -392,6 +439,16 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
                 continue;
             itemLow = glm::min(itemLow, p);
             itemHigh = glm::max(itemHigh, p);
+        }
+        if (isCaster(item)) {
+            CasterKey& key = casters.emplace_back();
+            key.model = item.model;
+            key.poseGeneration = models[size_t(item.model)].poseGeneration;
+            key.stableFromModel = stableFromCamera * item.cameraFromModel;
+            if (itemLow.x <= itemHigh.x) {
+                key.low = glm::dvec2(itemLow);
+                key.high = glm::dvec2(itemHigh);
+            }
         }
         if (!(itemLow.x <= itemHigh.x))
             continue;
@@ -438,7 +495,7 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
 }
 
 void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                             const glm::dmat4& stableFromCamera) const
+                             const PixelRect* part) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.name());
     glViewport(0, 0, size_, size_);
@@ -447,6 +504,12 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
+    // A part: its texels cleared (the depth alone: the stencil keeps the dither) and drawn
+    // again by every caster that reaches into them, with the matrices the rest was drawn with.
+    if (part) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(part->x0, part->y0, part->x1 - part->x0, part->y1 - part->y0);
+    }
     glClear(GL_DEPTH_BUFFER_BIT);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(kOffsetFactor, kOffsetUnits);
@@ -476,17 +539,25 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     };
     std::vector<Cutout> cutouts, glass;
     glUseProgram(depthProgram_.name());
+    size_t caster = 0; // index into drawnCasters_
     for (const DrawItem& item : items) {
         if (!isCaster(item))
             continue;
+        const CasterKey& key = drawnCasters_[caster++];
+        if (part) {
+            const PixelRect r = texelsOf(key.low, key.high);
+            if (r.empty() || r.x1 <= part->x0 || r.x0 >= part->x1 || r.y1 <= part->y0 || r.y0 >= part->y1)
+                continue;
+        }
         const GpuModel& model = models[size_t(item.model)];
         // The simplified stand-in whose error stays within a texel of the map.
         const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
-        const glm::dmat3 linear(item.cameraFromModel);
+        const glm::dmat3 linear(key.stableFromModel);
         const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
         const double texels = scale * std::max({extent.x, extent.y, extent.z}) / fit_.texelMetres;
         for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
-            const glm::mat4 cameraFromMesh(stableFromCamera * item.cameraFromModel * primitive.modelFromMesh);
+            // The light's "camera" frame here is the stable frame (fit_.lightClipFromStable).
+            const glm::mat4 cameraFromMesh(key.stableFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];
             // Glass (not MASK or BLEND): one opacity over the whole surface, kept through the
             // stencil's dither with this program.
@@ -545,6 +616,7 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     }
     glBindVertexArray(0);
     glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_SCISSOR_TEST);
 }
 
 void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView) const

@@ -1,14 +1,16 @@
-// Shadows of the dominant light (DESIGN.md §6.5). Each frame a depth-only pass draws the
-// virtual objects (the casters) as the light sees them, with an orthographic camera fitted to
-// their bounding boxes; every view (the frame, the cube faces of the environment maps) then
-// looks its points up in that map through FrameUniforms' light members (fillView), so virtual
-// objects shadow each other in mesh.frag. In the frame, the phantoms and the receiver-only
-// surfaces are drawn by drawReceivers instead of depth-only: they darken the camera image by
-// the share of light the objects take from them (shadow) and the contact occlusion of the
-// objects standing on them (phantom_receiver.frag).
+// Shadows of the dominant light (DESIGN.md §6.5). A depth-only pass draws the virtual objects
+// (the casters) as the light sees them, with an orthographic camera fitted to their bounding
+// boxes, when they or the light changed (whole, or the part an animated caster moves in);
+// every view (the frame, the cube faces of the environment maps) then looks its points up in
+// that map through FrameUniforms' light members (fillView), so virtual objects shadow each
+// other in mesh.frag. In the frame, the phantoms and the receiver-only surfaces are drawn by
+// drawReceivers instead of depth-only: they darken the camera image by the share of light the
+// objects take from them (shadow) and the contact occlusion of the objects standing on them
+// (phantom_receiver.frag).
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -115,23 +117,32 @@ private:
         // shadow it casts lies inside.
         std::vector<std::pair<glm::dvec3, glm::dvec3>> prisms;
     };
-    // What a caster's depth in the map depends on besides the fit.
+    // What a caster's depth in the map depends on besides the fit, and where it lies in it.
     struct CasterKey {
         int model = -1;
         uint64_t poseGeneration = 0;
         glm::dmat4 stableFromModel{1.0};
+        // Its box's extent across the light (light view x and y; empty when not finite).
+        glm::dvec2 low{std::numeric_limits<double>::infinity()};
+        glm::dvec2 high{-std::numeric_limits<double>::infinity()};
     };
     // Fits the light's camera to `items`' casters (and receivers in depth), given in the stable
-    // frame by `stableFromCamera`; false when there is nothing to cast a shadow.
+    // frame by `stableFromCamera`, and describes each caster (in `items`' order); false when
+    // there is nothing to cast a shadow.
     bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                        const glm::dmat4& stableFromCamera, LightFit& fit) const;
-    // Whether the map drawn (fit_, drawnCasters_) is the one `fit` and `casters` would draw.
-    [[nodiscard]] bool sameMap(const LightFit& fit, const std::vector<CasterKey>& casters) const;
+                        const glm::dmat4& stableFromCamera, LightFit& fit, std::vector<CasterKey>& casters) const;
+    // What of the map drawn (fit_, drawnCasters_) differs from the one `fit` and `casters`
+    // would draw: nothing, the texels of `part` (where animated casters were and are: only
+    // their poses changed), or all.
+    enum class Redraw { None, Part, All };
+    [[nodiscard]] Redraw compareMap(const LightFit& fit, const std::vector<CasterKey>& casters, PixelRect& part) const;
+    // The map's texels (with a margin) that the light view rectangle [low, high] touches.
+    [[nodiscard]] PixelRect texelsOf(const glm::dvec2& low, const glm::dvec2& high) const;
     void linkDepthProgram();
     void linkReceiverPrograms();
-    // Draws the map whole from fit_.
-    void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                     const glm::dmat4& stableFromCamera) const;
+    // Draws the map from fit_ and drawnCasters_: whole, or (`part` not null) only the texels of
+    // `part`, cleared and drawn again from the casters that reach into it.
+    void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items, const PixelRect* part) const;
     // Sets the receiver program's occluders (and reachSpheres_).
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
     // Where in the viewport the receivers can be darkened, as disjoint rectangles: the tiles
