@@ -108,8 +108,8 @@ int benchCommand(const BenchCommandOptions& options)
                                                               {"post", &RenderStats::post},
                                                               {"animation", &RenderStats::animation}};
     std::vector<std::vector<double>> stageWallMs(std::size(stageFields)), stageCpuMs(std::size(stageFields));
-    std::vector<double> mapsUpdated;
-    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated})
+    std::vector<double> mapsUpdated, shadowMapDrawn;
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated, &shadowMapDrawn})
         v->reserve(size_t(frames));
     long measured = 0;
     const double cpuStart = processCpuMs();
@@ -131,6 +131,7 @@ int benchCommand(const BenchCommandOptions& options)
             stageCpuMs[s].push_back((stats.*stageFields[s].second).cpuMs);
         }
         mapsUpdated.push_back(stats.mapsUpdated);
+        shadowMapDrawn.push_back(stats.shadowMapDrawn);
         ++measured;
     }
     const double seconds = std::chrono::duration<double>(last - start).count();
@@ -173,6 +174,8 @@ int benchCommand(const BenchCommandOptions& options)
             {"stages_cpu_ms", profile ? std::move(stagesCpu) : Json(nullptr)},
             {"cpu_ms_per_frame", jsonDecimals(cpuPerFrame, 2)},
             {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
+            // The share of the shadow map drawn per frame (0: kept from the frame before).
+            {"shadow_map_drawn_per_frame", jsonDecimals(mean(shadowMapDrawn), 3)},
             {"profiled", profile},
             {"rss_mb", jsonDecimals(residentMegabytes(), 1)},
             {"peak_rss_mb", jsonDecimals(peakResidentMegabytes(), 1)}};

@@ -126,6 +126,7 @@ public:
     {
         context_.makeCurrent();
         probes_.clear();
+        shadows_.invalidate();
         models_.clear();
     }
 

@@ -138,6 +138,9 @@ struct RenderStats {
     // Posing animated models (poseModel) since the frame before: node animation, CPU skinning
     // and morphing, and the vertex uploads (CPU work: timed without waiting for the GPU).
     StageTime animation;
+    // The share of the shadow map's texels drawn this frame: 0 when it was kept from the frame
+    // before (nothing it depends on changed), 1 when drawn whole.
+    double shadowMapDrawn = 0.0;
 };
 
 // Where the real environment's radiance comes from (DESIGN.md §6.5).

@@ -304,40 +304,133 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
     if (!enabled() || !lightSet_)
         return;
     StageTimer timer(profile, profile != nullptr);
-    if (fitLightCamera(models, items, environmentFromCamera)) {
-        linkDepthProgram();
-        drawCasters(models, items);
-        mapValid_ = true;
+    lightDirection_ = glm::transpose(environmentFromCamera) * light_.direction;
+    // The stable frame's origin: the first caster's (a finite one).
+    const auto first = std::find_if(items.begin(), items.end(), [](const DrawItem& item) {
+        return isCaster(item) && finite(glm::dvec3(item.cameraFromModel[3]));
+    });
+    if (first != items.end()) {
+        glm::dmat4 stableFromCamera(environmentFromCamera);
+        stableFromCamera[3] = glm::dvec4(-(environmentFromCamera * glm::dvec3(first->cameraFromModel[3])), 1.0);
+        if (fitLightCamera(models, items, stableFromCamera, freshFit_, freshCasters_)) {
+            PixelRect part;
+            switch (compareMap(freshFit_, freshCasters_, part)) {
+            case Redraw::All:
+                std::swap(fit_, freshFit_);
+                std::swap(drawnCasters_, freshCasters_);
+                drawnLightDirection_ = light_.direction;
+                linkDepthProgram();
+                drawCasters(models, items, nullptr);
+                drawn_ = true;
+                stats.shadowMapDrawn = 1.0;
+                break;
+            case Redraw::Part:
+                // The animated casters' keys and prisms are this frame's; the others' and the
+                // fit stay (equal within compareMap's tolerance).
+                for (size_t i = 0; i < freshCasters_.size(); ++i)
+                    if (freshCasters_[i].poseGeneration != drawnCasters_[i].poseGeneration)
+                        drawnCasters_[i] = freshCasters_[i];
+                std::swap(fit_.prisms, freshFit_.prisms);
+                if (!part.empty()) {
+                    drawCasters(models, items, &part);
+                    stats.shadowMapDrawn =
+                        double(part.x1 - part.x0) * double(part.y1 - part.y0) / (double(size_) * size_);
+                }
+                break;
+            case Redraw::None:
+                break;
+            }
+            // The map as drawn (this frame or before), seen from this frame's camera.
+            lightClipFromCamera_ = fit_.lightClipFromStable * stableFromCamera;
+            lightViewFromCamera_ = fit_.lightViewFromStable * stableFromCamera;
+            mapValid_ = true;
+        }
     }
     if (profile)
         timer.split(stats.shadows);
 }
 
+ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector<CasterKey>& casters,
+                                          PixelRect& part) const
+{
+    if (!drawn_ || light_.direction != drawnLightDirection_ || casters.size() != drawnCasters_.size())
+        return Redraw::All;
+    // Floating-point noise of poses composed from one marker and the environment's rotation
+    // from the same marker: far below a texel (a map of 4096 over 1 cm has 2.4 um texels).
+    constexpr double kMetres = 1e-7;
+    constexpr double kLinear = 1e-7;
+    if (glm::length(fit.centre - fit_.centre) > kMetres || std::abs(fit.side - fit_.side) > kMetres ||
+        std::abs(fit.nearZ - fit_.nearZ) > kMetres || std::abs(fit.farZ - fit_.farZ) > kMetres)
+        return Redraw::All;
+    bool posed = false;
+    part = {size_, size_, 0, 0};
+    for (size_t i = 0; i < casters.size(); ++i) {
+        const CasterKey& a = drawnCasters_[i];
+        const CasterKey& b = casters[i];
+        if (a.model != b.model)
+            return Redraw::All;
+        for (int c = 0; c < 3; ++c)
+            if (glm::length(glm::dvec3(a.stableFromModel[c] - b.stableFromModel[c])) >
+                kLinear * glm::length(glm::dvec3(a.stableFromModel[c])))
+                return Redraw::All;
+        if (glm::length(glm::dvec3(a.stableFromModel[3] - b.stableFromModel[3])) > kMetres)
+            return Redraw::All;
+        if (a.poseGeneration == b.poseGeneration)
+            continue;
+        // Posed where it stands (an animation): its depth changes where it was and where it is.
+        posed = true;
+        for (const PixelRect& r : {texelsOf(a.low, a.high), texelsOf(b.low, b.high)})
+            if (!r.empty())
+                part = {std::min(part.x0, r.x0), std::min(part.y0, r.y0), std::max(part.x1, r.x1),
+                        std::max(part.y1, r.y1)};
+    }
+    if (!posed)
+        return Redraw::None;
+    // Most of the map: drawn whole (no scissor, one clear).
+    constexpr double kWholeShare = 0.5;
+    if (!part.empty() && double(part.x1 - part.x0) * double(part.y1 - part.y0) > kWholeShare * size_ * size_)
+        return Redraw::All;
+    return Redraw::Part;
+}
+
+PixelRect ShadowPass::texelsOf(const glm::dvec2& low, const glm::dvec2& high) const
+{
+    if (!(low.x <= high.x && low.y <= high.y))
+        return {};
+    // The stand-ins drawn stray up to a texel from the model's box (proxyLevelFor), and a
+    // triangle covers the texels whose centres it contains.
+    constexpr double kMarginTexels = 2.0;
+    const auto texel = [&](double v, double centre) { return ((v - centre) / fit_.side + 0.5) * size_; };
+    const auto clamp = [&](double t) { return int(std::clamp(t, 0.0, double(size_))); };
+    return {clamp(std::floor(texel(low.x, fit_.centre.x) - kMarginTexels)),
+            clamp(std::floor(texel(low.y, fit_.centre.y) - kMarginTexels)),
+            clamp(std::ceil(texel(high.x, fit_.centre.x) + kMarginTexels)),
+            clamp(std::ceil(texel(high.y, fit_.centre.y) + kMarginTexels))};
+}
+
 bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                                const glm::dmat3& environmentFromCamera)
+                                const glm::dmat4& stableFromCamera, LightFit& fit,
+                                std::vector<CasterKey>& casters) const
 {
     // The light camera's axes are chosen in the environment frame (fixed to the world), so the
-    // map's texel grid does not turn with the camera, then moved into the camera frame.
-    const glm::dvec3 forwardEnv = -light_.direction; // the light travels along it
-    const glm::dvec3 helper = std::abs(forwardEnv.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
-    const glm::dvec3 rightEnv = glm::normalize(glm::cross(helper, forwardEnv));
-    const glm::dvec3 upEnv = glm::cross(forwardEnv, rightEnv);
-    const glm::dmat3 cameraFromEnvironment = glm::transpose(environmentFromCamera);
-    const glm::dvec3 right = cameraFromEnvironment * rightEnv;
-    const glm::dvec3 up = cameraFromEnvironment * upEnv;
-    const glm::dvec3 forward = cameraFromEnvironment * forwardEnv;
-    lightDirection_ = -forward;
-    glm::dmat4 lightViewFromCamera(1.0);
+    // map's texel grid does not turn with the camera.
+    const glm::dvec3 forward = -light_.direction; // the light travels along it
+    const glm::dvec3 helper = std::abs(forward.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 right = glm::normalize(glm::cross(helper, forward));
+    const glm::dvec3 up = glm::cross(forward, right);
+    glm::dmat4 lightViewFromStable(1.0);
     for (int c = 0; c < 3; ++c) {
-        lightViewFromCamera[c][0] = right[c];
-        lightViewFromCamera[c][1] = up[c];
-        lightViewFromCamera[c][2] = forward[c];
+        lightViewFromStable[c][0] = right[c];
+        lightViewFromStable[c][1] = up[c];
+        lightViewFromStable[c][2] = forward[c];
     }
+    const glm::dmat4 lightViewFromCamera = lightViewFromStable * stableFromCamera;
 
     constexpr double inf = std::numeric_limits<double>::infinity();
     glm::dvec3 low(inf), high(-inf);
     double receiversFar = -inf;
-    casterPrisms_.clear();
+    fit.prisms.clear();
+    casters.clear();
     for (const DrawItem& item : items) {
         glm::dvec3 itemLow(inf), itemHigh(-inf);
         for (const glm::dvec3& corner : boxCorners(models[size_t(item.model)], item.cameraFromModel)) {
@@ -347,12 +440,22 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
             itemLow = glm::min(itemLow, p);
             itemHigh = glm::max(itemHigh, p);
         }
+        if (isCaster(item)) {
+            CasterKey& key = casters.emplace_back();
+            key.model = item.model;
+            key.poseGeneration = models[size_t(item.model)].poseGeneration;
+            key.stableFromModel = stableFromCamera * item.cameraFromModel;
+            if (itemLow.x <= itemHigh.x) {
+                key.low = glm::dvec2(itemLow);
+                key.high = glm::dvec2(itemHigh);
+            }
+        }
         if (!(itemLow.x <= itemHigh.x))
             continue;
         if (isCaster(item)) {
             low = glm::min(low, itemLow);
             high = glm::max(high, itemHigh);
-            casterPrisms_.emplace_back(itemLow, itemHigh);
+            fit.prisms.emplace_back(itemLow, itemHigh);
         } else {
             receiversFar = std::max(receiversFar, itemHigh.z);
         }
@@ -364,33 +467,35 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
     // In depth it reaches the receivers behind them, whose distance the lookups compare.
     const double extent = std::max({high.x - low.x, high.y - low.y, 1e-4});
     const double margin = std::min(double(options_.softness) + kMarginTexels, 0.25 * size_);
-    const double side = extent * size_ / (size_ - 2.0 * margin);
-    texelMetres_ = side / size_;
-    const double nearZ = low.z - 2.0 * texelMetres_;
-    const double farZ = std::max(high.z, receiversFar) + 2.0 * texelMetres_;
-    const glm::dvec2 centre = 0.5 * (glm::dvec2(low) + glm::dvec2(high));
+    fit.side = extent * size_ / (size_ - 2.0 * margin);
+    fit.texelMetres = fit.side / size_;
+    fit.nearZ = low.z - 2.0 * fit.texelMetres;
+    fit.farZ = std::max(high.z, receiversFar) + 2.0 * fit.texelMetres;
+    fit.centre = 0.5 * (glm::dvec2(low) + glm::dvec2(high));
     // Half a texel of depth, on top of the pass's polygon offset and the lookups' normal offset.
-    depthBias_ = 0.5 * texelMetres_ / (farZ - nearZ);
+    fit.depthBias = 0.5 * fit.texelMetres / (fit.farZ - fit.nearZ);
 
+    const double side = fit.side, nearZ = fit.nearZ, farZ = fit.farZ;
     glm::dmat4 clipFromLightView(1.0);
     clipFromLightView[0][0] = 2.0 / side;
     clipFromLightView[1][1] = 2.0 / side;
     clipFromLightView[2][2] = 2.0 / (farZ - nearZ);
     clipFromLightView[3] =
-        glm::dvec4(-2.0 * centre.x / side, -2.0 * centre.y / side, -2.0 * nearZ / (farZ - nearZ) - 1.0, 1.0);
-    lightClipFromCamera_ = clipFromLightView * lightViewFromCamera;
-    lightViewFromCamera_ = lightViewFromCamera;
+        glm::dvec4(-2.0 * fit.centre.x / side, -2.0 * fit.centre.y / side, -2.0 * nearZ / (farZ - nearZ) - 1.0, 1.0);
+    fit.lightClipFromStable = clipFromLightView * lightViewFromStable;
+    fit.lightViewFromStable = lightViewFromStable;
     // The kernel reaches (softness + 1) texels beyond a caster's outline, from a point the
     // lookups move by up to kNormalOffsetTexels (shadow.glsl's normal offset).
-    const double reach = (options_.softness + 1.0 + kNormalOffsetTexels) * texelMetres_;
-    for (auto& [prismLow, prismHigh] : casterPrisms_) {
+    const double reach = (options_.softness + 1.0 + kNormalOffsetTexels) * fit.texelMetres;
+    for (auto& [prismLow, prismHigh] : fit.prisms) {
         prismLow = glm::dvec3(glm::dvec2(prismLow) - reach, nearZ);
         prismHigh = glm::dvec3(glm::dvec2(prismHigh) + reach, farZ);
     }
     return true;
 }
 
-void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const
+void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
+                             const PixelRect* part) const
 {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.name());
     glViewport(0, 0, size_, size_);
@@ -399,12 +504,18 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
+    // A part: its texels cleared (the depth alone: the stencil keeps the dither) and drawn
+    // again by every caster that reaches into them, with the matrices the rest was drawn with.
+    if (part) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(part->x0, part->y0, part->x1 - part->x0, part->y1 - part->y0);
+    }
     glClear(GL_DEPTH_BUFFER_BIT);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(kOffsetFactor, kOffsetUnits);
 
     FrameUniforms lightFrame;
-    lightFrame.clipFromCamera = glm::mat4(lightClipFromCamera_);
+    lightFrame.clipFromCamera = glm::mat4(fit_.lightClipFromStable); // the casters in the stable frame
     glBindBuffer(GL_UNIFORM_BUFFER, frameUniforms_.name());
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof(FrameUniforms), &lightFrame);
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBlockBinding, frameUniforms_.name());
@@ -428,17 +539,25 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     };
     std::vector<Cutout> cutouts, glass;
     glUseProgram(depthProgram_.name());
+    size_t caster = 0; // index into drawnCasters_
     for (const DrawItem& item : items) {
         if (!isCaster(item))
             continue;
+        const CasterKey& key = drawnCasters_[caster++];
+        if (part) {
+            const PixelRect r = texelsOf(key.low, key.high);
+            if (r.empty() || r.x1 <= part->x0 || r.x0 >= part->x1 || r.y1 <= part->y0 || r.y0 >= part->y1)
+                continue;
+        }
         const GpuModel& model = models[size_t(item.model)];
         // The simplified stand-in whose error stays within a texel of the map.
         const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
-        const glm::dmat3 linear(item.cameraFromModel);
+        const glm::dmat3 linear(key.stableFromModel);
         const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
-        const double texels = scale * std::max({extent.x, extent.y, extent.z}) / texelMetres_;
+        const double texels = scale * std::max({extent.x, extent.y, extent.z}) / fit_.texelMetres;
         for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
-            const glm::mat4 cameraFromMesh(item.cameraFromModel * primitive.modelFromMesh);
+            // The light's "camera" frame here is the stable frame (fit_.lightClipFromStable).
+            const glm::mat4 cameraFromMesh(key.stableFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];
             // Glass (not MASK or BLEND): one opacity over the whole surface, kept through the
             // stencil's dither with this program.
@@ -497,6 +616,7 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     }
     glBindVertexArray(0);
     glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_SCISSOR_TEST);
 }
 
 void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView) const
@@ -507,7 +627,8 @@ void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView
     frame.lightClipFromCamera = glm::mat4(lightClipFromCamera_ * cameraFromView);
     frame.lightDirection = glm::vec4(glm::normalize(viewFromCamera * lightDirection_), mapValid_ ? 1.0f : 0.0f);
     frame.lightIrradiance = glm::vec4(light_.color * light_.intensity, lightSet_ ? 1.0f : 0.0f);
-    frame.shadowParams = glm::vec4(options_.softness, 1.0f / float(size_), float(texelMetres_), float(depthBias_));
+    frame.shadowParams =
+        glm::vec4(options_.softness, 1.0f / float(size_), float(fit_.texelMetres), float(fit_.depthBias));
 }
 
 void ShadowPass::setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items)
@@ -597,7 +718,7 @@ std::vector<PixelRect> ShadowPass::darkenedRects(const FrameUniforms& frame, con
                 continue;
             const bool facesLight = glm::dot(normal, lightDirection_) > 0.0;
             if (mapValid_ && facesLight && std::abs(travel[axis]) > 1e-12)
-                for (const auto& [prismLow, prismHigh] : casterPrisms_) {
+                for (const auto& [prismLow, prismHigh] : fit_.prisms) {
                     std::vector<glm::dvec2> section;
                     for (const int i : {0, 1, 3, 2}) { // around the prism
                         const glm::dvec3 edge((i & 1) ? prismHigh.x : prismLow.x, (i & 2) ? prismHigh.y : prismLow.y,

@@ -1,13 +1,16 @@
-// Shadows of the dominant light (DESIGN.md §6.5). Each frame a depth-only pass draws the
-// virtual objects (the casters) as the light sees them, with an orthographic camera fitted to
-// their bounding boxes; every view (the frame, the cube faces of the environment maps) then
-// looks its points up in that map through FrameUniforms' light members (fillView), so virtual
-// objects shadow each other in mesh.frag. In the frame, the phantoms and the receiver-only
-// surfaces are drawn by drawReceivers instead of depth-only: they darken the camera image by
-// the share of light the objects take from them (shadow) and the contact occlusion of the
-// objects standing on them (phantom_receiver.frag).
+// Shadows of the dominant light (DESIGN.md §6.5). A depth-only pass draws the virtual objects
+// (the casters) as the light sees them, with an orthographic camera fitted to their bounding
+// boxes, when they or the light changed (whole, or the part an animated caster moves in);
+// every view (the frame, the cube faces of the environment maps) then looks its points up in
+// that map through FrameUniforms' light members (fillView), so virtual objects shadow each
+// other in mesh.frag. In the frame, the phantoms and the receiver-only surfaces are drawn by
+// drawReceivers instead of depth-only: they darken the camera image by the share of light the
+// objects take from them (shadow) and the contact occlusion of the objects standing on them
+// (phantom_receiver.frag).
 #pragma once
 
+#include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -32,11 +35,18 @@ public:
     // or non-finite colour or intensity.
     void setLight(const DirectionalLight& light);
 
-    // Renders this frame's map from `items` (casters: the items that are not phantoms), the
-    // light turned into the frame's camera frame by `environmentFromCamera`. Leaves the GL
-    // framebuffer binding and viewport changed. Does nothing when shadows are off.
+    // Prepares this frame's map from `items` (casters: the items that are not phantoms), the
+    // light turned into the frame's camera frame by `environmentFromCamera`. The map is fitted
+    // and drawn in a frame that moves with the scene, not the camera (LightFit), and drawn only
+    // when something it depends on changed: the light's direction, a caster's pose relative to
+    // the others or to the environment, an animated caster's pose (GpuModel::poseGeneration),
+    // the receivers' reach in depth. stats.shadowMapDrawn says how much was drawn. May leave
+    // the GL framebuffer binding and viewport changed. Does nothing when shadows are off.
     void render(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                 const glm::dmat3& environmentFromCamera, RenderCpuClock* profile, RenderStats& stats);
+    // Forgets the map, so that the next render draws it whole: the models it was drawn from
+    // are gone (their indices may name new ones).
+    void invalidate() { drawn_ = false; }
 
     // Writes the light's members of `frame` for a view whose camera frame sits at
     // `cameraFromView` in the frame's camera frame (identity for the frame itself). Leaves them
@@ -92,13 +102,47 @@ private:
     // (Re)creates ratio_ for a frame of this size.
     void prepareRatioBuffer(int frameWidth, int frameHeight);
     void linkApplyProgram();
-    // Fits the light's orthographic camera to this frame's casters (and receivers in depth);
-    // false when there is nothing to cast a shadow.
+    // The light's orthographic camera, in the "stable" frame: the environment's axes (the
+    // camera's rotation in them is environmentFromCamera) with its origin at the first caster's
+    // model origin. The casters (on one marker) and the light (from the environment) stand still
+    // in it while the real camera moves, so a map drawn in it stays valid.
+    struct LightFit {
+        glm::dmat4 lightViewFromStable{1.0};
+        glm::dmat4 lightClipFromStable{1.0};
+        glm::dvec2 centre{0.0}; // of the map, light view frame
+        double side = 0.0, nearZ = 0.0, farZ = 0.0;
+        double texelMetres = 0.0;
+        double depthBias = 0.0;
+        // Each caster's box in the light's view frame, reaching to the map's far end: the
+        // shadow it casts lies inside.
+        std::vector<std::pair<glm::dvec3, glm::dvec3>> prisms;
+    };
+    // What a caster's depth in the map depends on besides the fit, and where it lies in it.
+    struct CasterKey {
+        int model = -1;
+        uint64_t poseGeneration = 0;
+        glm::dmat4 stableFromModel{1.0};
+        // Its box's extent across the light (light view x and y; empty when not finite).
+        glm::dvec2 low{std::numeric_limits<double>::infinity()};
+        glm::dvec2 high{-std::numeric_limits<double>::infinity()};
+    };
+    // Fits the light's camera to `items`' casters (and receivers in depth), given in the stable
+    // frame by `stableFromCamera`, and describes each caster (in `items`' order); false when
+    // there is nothing to cast a shadow.
     bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
-                        const glm::dmat3& environmentFromCamera);
+                        const glm::dmat4& stableFromCamera, LightFit& fit, std::vector<CasterKey>& casters) const;
+    // What of the map drawn (fit_, drawnCasters_) differs from the one `fit` and `casters`
+    // would draw: nothing, the texels of `part` (where animated casters were and are: only
+    // their poses changed), or all.
+    enum class Redraw { None, Part, All };
+    [[nodiscard]] Redraw compareMap(const LightFit& fit, const std::vector<CasterKey>& casters, PixelRect& part) const;
+    // The map's texels (with a margin) that the light view rectangle [low, high] touches.
+    [[nodiscard]] PixelRect texelsOf(const glm::dvec2& low, const glm::dvec2& high) const;
     void linkDepthProgram();
     void linkReceiverPrograms();
-    void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items) const;
+    // Draws the map from fit_ and drawnCasters_: whole, or (`part` not null) only the texels of
+    // `part`, cleared and drawn again from the casters that reach into it.
+    void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items, const PixelRect* part) const;
     // Sets the receiver program's occluders (and reachSpheres_).
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
     // Where in the viewport the receivers can be darkened, as disjoint rectangles: the tiles
@@ -115,12 +159,16 @@ private:
     glm::dvec3 lightDirection_{0.0, 0.0, -1.0};
     glm::dmat4 lightClipFromCamera_{1.0};
     glm::dmat4 lightViewFromCamera_{1.0};
-    // Each caster's box in the light's view frame, reaching to the map's far end: the
-    // shadow it casts lies inside.
-    std::vector<std::pair<glm::dvec3, glm::dvec3>> casterPrisms_;
-    double texelMetres_ = 0.0;
-    double depthBias_ = 0.0;
     bool mapValid_ = false;
+    // What the map holds: drawn (drawn_) with fit_ from drawnCasters_ under the light from
+    // drawnLightDirection_ (environment frame).
+    LightFit fit_;
+    std::vector<CasterKey> drawnCasters_;
+    glm::dvec3 drawnLightDirection_{0.0};
+    bool drawn_ = false;
+    // This frame's, compared with those (kept to reuse their storage).
+    LightFit freshFit_;
+    std::vector<CasterKey> freshCasters_;
 
     GlTexture map_;
     GlFramebuffer framebuffer_;

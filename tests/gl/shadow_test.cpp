@@ -3,17 +3,21 @@
 // image on phantoms and receiver-only ground (phantom_receiver.frag), and the analytic contact
 // occlusion. The scene is seen from 1 m straight above the world origin (world z up), under a
 // uniform environment, over a uniform grey camera image.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <optional>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
+#include "gles_renderer/assets/gltf_model.h"
 #include "gles_renderer/assets/lafortune_material.h"
+#include "unit/render/animated_gltf.h"
 
 namespace lumar {
 namespace {
@@ -523,6 +527,201 @@ TEST(Shadows, ContactDarkeningUnderADiffuseSky)
     // Symmetric about the box, and fading with distance.
     EXPECT_NEAR(code(out, pixelOf({0.07, 0.0, 0.0})), near, 1);
     EXPECT_GT(code(out, pixelOf({-0.12, 0.0, 0.0})), near);
+}
+
+// The shadow map is kept from frame to frame while nothing it depends on changes: it is fitted
+// and drawn in a frame that moves with the scene, not with the camera (ShadowPass::render).
+// The scene: two boxes over the ground phantom; the camera then turns (8 degrees) and steps
+// (6 cm), everything (the items, the environment's rotation) following it.
+glm::dmat4 cameraStep()
+{
+    const glm::dmat4 turn = glm::rotate(glm::dmat4(1.0), 8.0 * kPi / 180.0, glm::normalize(glm::dvec3(1.0, 2.0, 0.5)));
+    return glm::translate(glm::dmat4(1.0), glm::dvec3(0.03, -0.02, 0.05)) * turn;
+}
+
+// The camera moved by `step` (in its own frame): the environment turns with it.
+void viewFrom(SceneRenderer& renderer, const glm::dmat4& step)
+{
+    renderer.setEnvironmentRotation(environmentFromWorld() * glm::dmat3(glm::inverse(step * cameraFromWorld())));
+}
+
+std::vector<DrawItem> twoBoxesOnTheGround(ModelId cube, const glm::dmat4& step)
+{
+    std::vector<DrawItem> items = {groundPhantom(cube),
+                                   {cube, placed({0.0, 0.0, 0.3}, glm::dvec3(0.1)), -1},
+                                   {cube, placed({0.1, 0.05, 0.1}, {0.05, 0.08, 0.2}), -1}};
+    for (DrawItem& item : items)
+        item.cameraFromModel = step * item.cameraFromModel;
+    return items;
+}
+
+double mapDrawn(SceneRenderer& renderer, std::span<const DrawItem> items, Image8* out = nullptr)
+{
+    const Image8 image = renderOverGrey(renderer, items);
+    if (out)
+        *out = image;
+    return renderer.lastStats().shadowMapDrawn;
+}
+
+TEST(Shadows, TheMapIsKeptWhileOnlyTheCameraMovesAndShadowsAsIfDrawnAgain)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    renderer.setLight(light(worldDirection(55.0, 20.0), 2.0f));
+    ModelId cube = renderer.addModel(makeCube());
+    EXPECT_EQ(mapDrawn(renderer, twoBoxesOnTheGround(cube, glm::dmat4(1.0))), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, twoBoxesOnTheGround(cube, glm::dmat4(1.0))), 0.0);
+    // The camera moves: the map is kept, seen from where the camera now is.
+    viewFrom(renderer, cameraStep());
+    Image8 kept;
+    EXPECT_EQ(mapDrawn(renderer, twoBoxesOnTheGround(cube, cameraStep()), &kept), 0.0);
+    // The same view with the map drawn afresh (the models uploaded again).
+    renderer.removeModels();
+    cube = renderer.addModel(makeCube());
+    Image8 fresh;
+    EXPECT_EQ(mapDrawn(renderer, twoBoxesOnTheGround(cube, cameraStep()), &fresh), 1.0);
+    int darkened = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            darkened += fresh.at(x, y)[1] < kGrey - 10;
+    EXPECT_GT(darkened, 300) << "the shadows are in view";
+    int worst = 0;
+    for (size_t i = 0; i < kept.data.size(); ++i)
+        worst = std::max(worst, std::abs(int(kept.data[i]) - int(fresh.data[i])));
+    EXPECT_LE(worst, 1);
+}
+
+TEST(Shadows, TheMapIsDrawnAgainWhenACasterMovesTheLightTurnsOrTheReceiversMove)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    renderer.setLight(light(worldDirection(55.0, 20.0), 2.0f));
+    const ModelId cube = renderer.addModel(makeCube());
+    std::vector<DrawItem> items = twoBoxesOnTheGround(cube, glm::dmat4(1.0));
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // A caster moves by 1 mm (the other one, not the stable frame's origin).
+    items[2].cameraFromModel = glm::translate(glm::dmat4(1.0), glm::dvec3(0.001, 0.0, 0.0)) * items[2].cameraFromModel;
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // The first caster (the stable frame's origin) moves: the other one moved relative to it.
+    items[1].cameraFromModel = glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.001, 0.0)) * items[1].cameraFromModel;
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // The light turns by a degree.
+    renderer.setLight(light(worldDirection(56.0, 20.0), 2.0f));
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // Its colour and intensity are not in the map.
+    renderer.setLight(light(worldDirection(56.0, 20.0), 1.0f));
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // The ground sinks by 5 cm: the map's depth range reaches it.
+    items[0].cameraFromModel = placed({0.0, 0.0, -0.06}, {1.2, 1.2, 0.02});
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    // A caster fewer.
+    items.pop_back();
+    EXPECT_EQ(mapDrawn(renderer, items), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+}
+
+// An animated caster changes shape where it stands: each pose draws the map again (where its
+// bounds, and so the light's fit, stay too), and the shadow follows the pose. The bending bar (0.2 m tall at this
+// scale) over the ground; at 1 s its upper half lies along -x, so the shadow changes. The bending bar
+// (tests/unit/render/animated_gltf.h) 0.2 m tall at this scale, standing in the plane y = 0 from 5 cm above the ground
+// at the origin; at 1 s its upper half lies along -x.
+GltfModel bendingBarModel(const test::ScratchDir& dir)
+{
+    GltfModel bar = loadGltfModel(test::bendingBar().write(dir, "bar"));
+    bar.materials.assign(1, GltfMaterial{});
+    bar.materials[0].doubleSided = true;
+    return bar;
+}
+
+glm::dmat4 cameraFromBar()
+{
+    glm::dmat4 worldFromBar(1.0);
+    worldFromBar[0] = glm::dvec4(0.1, 0.0, 0.0, 0.0);
+    worldFromBar[1] = glm::dvec4(0.0, 0.0, 0.1, 0.0);
+    worldFromBar[2] = glm::dvec4(0.0, -0.1, 0.0, 0.0);
+    worldFromBar[3] = glm::dvec4(0.0, 0.0, 0.05, 1.0);
+    return cameraFromWorld() * worldFromBar;
+}
+
+TEST(Shadows, AnAnimatedCasterDrawsTheMapWhenPosed)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    renderer.setLight(light(worldDirection(60.0, 90.0), 2.0f));
+    test::ScratchDir dir;
+    const ModelId cube = renderer.addModel(makeCube());
+    const ModelId animated = renderer.addModel(bendingBarModel(dir));
+    // Its plane faces the light's azimuth; its bounds are the casters' and set the light's fit.
+    const DrawItem items[] = {groundPhantom(cube), {animated, cameraFromBar(), -1}};
+    const ClipTime rest[] = {{0, 0.0}};
+    const ClipTime bent[] = {{0, 1.0}};
+    renderer.poseModel(animated, rest);
+    Image8 atRest, atRestAgain, whenBent;
+    EXPECT_EQ(mapDrawn(renderer, items, &atRest), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items, &atRestAgain), 0.0);
+    renderer.poseModel(animated, bent);
+    EXPECT_EQ(mapDrawn(renderer, items, &whenBent), 1.0);
+    EXPECT_EQ(mapDrawn(renderer, items), 0.0);
+    // A pose that leaves the bounds (and the light's fit) as they were still counts: the
+    // renderer does not compare the vertices (GpuModel::poseGeneration).
+    renderer.poseModel(animated, bent);
+    EXPECT_GT(mapDrawn(renderer, items), 0.0);
+    int shadowRest = 0, shadowBent = 0, changed = 0;
+    const glm::dvec2 darkRest = darkCentroid(atRest, &shadowRest);
+    const glm::dvec2 darkBent = darkCentroid(whenBent, &shadowBent);
+    for (size_t i = 0; i < atRest.data.size(); ++i)
+        changed += std::abs(int(atRest.data[i]) - int(atRestAgain.data[i])) > 1;
+    EXPECT_EQ(changed, 0);
+    ASSERT_GT(shadowRest, 50);
+    ASSERT_GT(shadowBent, 50);
+    // Bent, the top half's shadow lies further along -x.
+    EXPECT_LT(darkBent.x, darkRest.x - 3.0) << darkRest.x << " -> " << darkBent.x;
+}
+
+// Where the light's fit stays (two boxes far apart set it: one out of view high up towards the
+// light, one on the ground), an animated caster's pose draws again only the part of the map
+// where it was and is, and the frame is the one drawn with the map drawn whole.
+TEST(Shadows, AnAnimatedCasterDrawsItsPartOfTheMapAsTheWholeWouldBe)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    renderer.setLight(light(worldDirection(60.0, 90.0), 2.0f));
+    test::ScratchDir dir;
+    const GltfModel bar = bendingBarModel(dir);
+    ModelId cube = renderer.addModel(makeCube());
+    ModelId animated = renderer.addModel(bar);
+    const auto scene = [&] {
+        return std::vector<DrawItem>{groundPhantom(cube),
+                                     {cube, placed({-0.3, -0.3, 0.5}, glm::dvec3(0.05)), -1},
+                                     {animated, cameraFromBar(), -1},
+                                     {cube, placed({0.3, 0.25, 0.025}, glm::dvec3(0.05)), -1}};
+    };
+    const ClipTime rest[] = {{0, 0.0}};
+    const ClipTime bent[] = {{0, 1.0}};
+    renderer.poseModel(animated, rest);
+    Image8 atRest, partly, whole;
+    EXPECT_EQ(mapDrawn(renderer, scene(), &atRest), 1.0);
+    renderer.poseModel(animated, bent);
+    const double share = mapDrawn(renderer, scene(), &partly);
+    EXPECT_GT(share, 0.0);
+    EXPECT_LT(share, 0.5);
+    // The same pose with the map drawn whole (the models uploaded again).
+    renderer.removeModels();
+    cube = renderer.addModel(makeCube());
+    animated = renderer.addModel(bar);
+    renderer.poseModel(animated, bent);
+    EXPECT_EQ(mapDrawn(renderer, scene(), &whole), 1.0);
+    int worst = 0, moved = 0;
+    for (size_t i = 0; i < whole.data.size(); ++i) {
+        worst = std::max(worst, std::abs(int(partly.data[i]) - int(whole.data[i])));
+        moved += std::abs(int(atRest.data[i]) - int(whole.data[i])) > 10;
+    }
+    EXPECT_GT(moved, 100) << "the pose moves the shadow";
+    EXPECT_LE(worst, 1);
 }
 
 } // namespace
