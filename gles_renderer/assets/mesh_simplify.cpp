@@ -85,27 +85,35 @@ GltfPrimitive simplifyPrimitive(const GltfPrimitive& primitive, float maxError)
     return out;
 }
 
-GltfModel makeProxyModel(const GltfModel& model, int cellsAlongLongestSide)
+std::vector<GltfPrimitive> makeProxyPrimitives(const GltfModel& model, int cellsAlongLongestSide)
 {
     if (cellsAlongLongestSide < 1)
         throw InputError("a proxy needs at least one cell along the model");
     const glm::vec3 extent = model.boundsMax - model.boundsMin;
     const float longest = std::max({extent.x, extent.y, extent.z});
-    GltfModel proxy;
-    proxy.file = model.file;
-    proxy.materials = model.materials;
-    proxy.textures = model.textures;
-    proxy.textureSamplers = model.textureSamplers;
-    proxy.boundsMin = model.boundsMin;
-    proxy.boundsMax = model.boundsMax;
+    std::vector<GltfPrimitive> primitives;
+    primitives.reserve(model.primitives.size());
     for (const GltfPrimitive& p : model.primitives) {
         // The error bound in model space, expressed in this primitive's mesh space.
         const glm::mat3 linear(p.modelFromMesh);
         const float scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
         const float cell = longest / float(cellsAlongLongestSide);
         const float error = longest > 0.0f && scale > 0.0f ? kErrorShareOfCell * cell / scale : 0.0f;
-        proxy.primitives.push_back(error > 0.0f ? simplifyPrimitive(p, error) : p);
+        primitives.push_back(error > 0.0f ? simplifyPrimitive(p, error) : p);
     }
+    return primitives;
+}
+
+GltfModel makeProxyModel(const GltfModel& model, int cellsAlongLongestSide)
+{
+    GltfModel proxy;
+    proxy.primitives = makeProxyPrimitives(model, cellsAlongLongestSide);
+    proxy.file = model.file;
+    proxy.materials = model.materials;
+    proxy.textures = model.textures;
+    proxy.textureSamplers = model.textureSamplers;
+    proxy.boundsMin = model.boundsMin;
+    proxy.boundsMax = model.boundsMax;
     return proxy;
 }
 

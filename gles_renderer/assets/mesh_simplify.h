@@ -26,4 +26,9 @@ GltfPrimitive simplifyPrimitive(const GltfPrimitive& primitive, float maxError);
 // transform's scale): the level semantics of the vertex clustering grid this replaced.
 GltfModel makeProxyModel(const GltfModel& model, int cellsAlongLongestSide);
 
+// makeProxyModel's primitives alone, in the model's order: what the stand-ins upload. Without
+// a copy of the model's materials and decoded textures, which for CesiumMilkTruck's 2048²
+// image was 16 MB per stand-in level, transient at load but the car scene's peak (issue 18).
+std::vector<GltfPrimitive> makeProxyPrimitives(const GltfModel& model, int cellsAlongLongestSide);
+
 } // namespace lumar

@@ -29,10 +29,10 @@ constexpr int kProxyLevelCells[] = {kProxyMaxCells, 32, 24, 16, 12, 8};
 // last level kept: a cube stays one level, a sphere seen small still gets coarser ones.
 constexpr double kProxyMinTriangleSaving = 0.2;
 
-size_t triangleCount(const GltfModel& model)
+size_t triangleCount(const std::vector<GltfPrimitive>& primitives)
 {
     size_t count = 0;
-    for (const GltfPrimitive& p : model.primitives)
+    for (const GltfPrimitive& p : primitives)
         count += p.indices.size() / 3;
     return count;
 }
@@ -355,17 +355,17 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
     }
     size_t keptTriangles = 0;
     for (const int cells : kProxyLevelCells) {
-        const GltfModel proxy = makeProxyModel(model, cells);
+        const std::vector<GltfPrimitive> proxy = makeProxyPrimitives(model, cells);
         const size_t triangles = triangleCount(proxy);
         if (!gpu.proxyLevels.empty() && double(triangles) > (1.0 - kProxyMinTriangleSaving) * double(keptTriangles))
             continue;
         keptTriangles = triangles;
         GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
         level.cells = cells;
-        // makeProxyModel keeps the primitives' order: animation finds each one's source by it.
-        for (size_t p = 0; p < proxy.primitives.size(); ++p)
-            if (!proxy.primitives[p].indices.empty())
-                level.primitives.push_back(uploadPrimitive(proxy.primitives[p], defaultMaterial, p, GL_STATIC_DRAW));
+        // makeProxyPrimitives keeps the primitives' order: animation finds each one's source by it.
+        for (size_t p = 0; p < proxy.size(); ++p)
+            if (!proxy[p].indices.empty())
+                level.primitives.push_back(uploadPrimitive(proxy[p], defaultMaterial, p, GL_STATIC_DRAW));
     }
     checkGlError("uploading a model");
     return gpu;

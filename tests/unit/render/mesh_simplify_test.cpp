@@ -162,6 +162,21 @@ TEST(MeshSimplify, ACoarseMeshIsLeftAloneAndDegenerateOnesPassThrough)
     EXPECT_EQ(makeProxyModel(flat, 8).primitives[0].indices, cube.primitives[0].indices);
 }
 
+TEST(MeshSimplify, TheProxyPrimitivesAreTheProxyModelsInTheModelsOrder)
+{
+    GltfModel model = makeUvSphere(64, 32);
+    model.primitives.push_back(makeCube().primitives[0]);
+    const GltfModel proxy = makeProxyModel(model, 16);
+    const std::vector<GltfPrimitive> primitives = makeProxyPrimitives(model, 16);
+    ASSERT_EQ(primitives.size(), model.primitives.size());
+    for (size_t i = 0; i < primitives.size(); ++i) {
+        EXPECT_EQ(primitives[i].indices, proxy.primitives[i].indices) << i;
+        EXPECT_EQ(primitives[i].positions, proxy.primitives[i].positions) << i;
+    }
+    EXPECT_LT(primitives[0].indices.size(), model.primitives[0].indices.size() / 2);
+    EXPECT_THROW(makeProxyPrimitives(model, 0), InputError);
+}
+
 TEST(MeshSimplify, BadArgumentsAndMalformedPrimitivesAreRejected)
 {
     const GltfModel cube = makeCube();
