@@ -85,6 +85,9 @@ uniform sampler2D uTransmission;      // linear r: x the transmission factor
 #ifndef HAS_TANGENT_ROTATION // the Lafortune tangent turned by a factor that is not 0
 #define HAS_TANGENT_ROTATION (IS_LAFORTUNE && specularFactor.w != 0.0)
 #endif
+#ifndef PHONG_LOBE // the lobe is Phong's (C = -1, -1, 1 everywhere): its peak is the mirror direction
+#define PHONG_LOBE (!IS_LAFORTUNE || (!HAS_LOBE_TEXTURE && lobeFactor.xyz == vec3(-1.0, -1.0, 1.0)))
+#endif
 #ifndef HAS_SHADOW
 #define HAS_SHADOW (lightDirection.w > 0.5)
 #endif
@@ -295,7 +298,10 @@ void main()
     b = cross(n, t) * handedness;
 
     vec3 v = normalize(-vPosition);
-    LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
+    // A Phong lobe needs no tangent frame (phongShade): without a normal map t and b, and the
+    // tangent's interpolation, are left out.
+    LafortuneShade shade = PHONG_LOBE ? phongShade(v, n, exponent, rhoS, metallicRoughness.w)
+                                      : lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
     // glTF occlusion darkens the environment's light, diffuse and specular alike (not the
     // emission): 1 + strength (texel - 1).
     float occlusion = 1.0;

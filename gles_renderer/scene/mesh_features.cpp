@@ -50,6 +50,10 @@ uint32_t reflectanceFeatures(const MaterialUniforms& material)
         features |= mesh_feature::kDiffuse;
     if (material.metallicRoughness.z > 0.5f && material.specularFactor.w != 0.0f)
         features |= mesh_feature::kTangentRotation;
+    const bool lafortune = material.metallicRoughness.z > 0.5f;
+    if (!lafortune || (material.textureFlags.z <= 0.5f && material.lobeFactor.x == -1.0f &&
+                       material.lobeFactor.y == -1.0f && material.lobeFactor.z == 1.0f))
+        features |= mesh_feature::kPhongLobe;
     return features;
 }
 
@@ -69,6 +73,7 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kTransmission, "HAS_TRANSMISSION"},
         {mesh_feature::kDiffuse, "HAS_DIFFUSE"},
         {mesh_feature::kTangentRotation, "HAS_TANGENT_ROTATION"},
+        {mesh_feature::kPhongLobe, "PHONG_LOBE"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
     };
