@@ -45,6 +45,24 @@ LafortuneShade lafortuneShade(vec3 v, vec3 t, vec3 b, vec3 n, vec3 lobe, float e
     return s;
 }
 
+// lafortuneShade for the Phong lobe C = (-1, -1, 1), whatever the tangent frame: its peak
+// (-v.t, -v.b, v.n) in an orthonormal frame is the mirror direction 2 (v.n) n - v, of length
+// |v| = 1, so the magnitude is 1 (lafortuneShade's differ from these by float rounding).
+LafortuneShade phongShade(vec3 v, vec3 n, float exponent, vec3 rhoS, float phi)
+{
+    LafortuneShade s;
+    s.lobeDirection = reflect(-v, n);
+    s.magnitude = 1.0;
+    float cosine = clamp(dot(s.lobeDirection, n), 0.0, 1.0);
+    s.fresnel = phi >= 1e-3 ? pow(1.0 - cosine, 1.0 / phi - 1.0) : 0.0;
+    float gloss = clamp(log2(max(exponent, 1.0)) / kLog2MirrorExponent, 0.0, 1.0);
+    s.glossiness = gloss + (1.0 - gloss) * s.fresnel;
+    vec3 rhoSPrime = rhoS + (1.0 - rhoS) * s.fresnel;
+    float falloff = cosine + (1.0 - cosine) * s.fresnel;
+    s.specularWeight = rhoSPrime * falloff;
+    return s;
+}
+
 // Which two maps a normalised glossiness s falls between and the blend weight of the
 // second: 0 = diffuse/glossy-1, 1 = glossy-1/glossy-2, 2 = glossy-2/mirror. Linear in s is
 // linear in log n: the maps sit at equal steps of log2 n (0, 3, 6, 12).

@@ -79,6 +79,15 @@ uniform sampler2D uTransmission;      // linear r: x the transmission factor
 #ifndef HAS_TRANSMISSION // KHR_materials_transmission or the glass preset
 #define HAS_TRANSMISSION (transmission.x > 0.0)
 #endif
+#ifndef HAS_DIFFUSE // rho_d not zero: the diffuse term (and the shadow, which darkens only it)
+#define HAS_DIFFUSE any(notEqual(baseColorFactor.rgb, vec3(0.0)))
+#endif
+#ifndef HAS_TANGENT_ROTATION // the Lafortune tangent turned by a factor that is not 0
+#define HAS_TANGENT_ROTATION (IS_LAFORTUNE && specularFactor.w != 0.0)
+#endif
+#ifndef PHONG_LOBE // the lobe is Phong's (C = -1, -1, 1 everywhere): its peak is the mirror direction
+#define PHONG_LOBE (!IS_LAFORTUNE || (!HAS_LOBE_TEXTURE && lobeFactor.xyz == vec3(-1.0, -1.0, 1.0)))
+#endif
 #ifndef HAS_SHADOW
 #define HAS_SHADOW (lightDirection.w > 0.5)
 #endif
@@ -282,32 +291,43 @@ void main()
         exponent = clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
         rotation = 0.0;
     }
-    // Towards B (mirrored uvs and mirrored cube-face frames turn the other way round).
-    t = rotateTangent(t, n, rotation * handedness);
+    // Towards B (mirrored uvs and mirrored cube-face frames turn the other way round). A
+    // rotation of 0 leaves t as it is: its sine and cosine are left out.
+    if (HAS_TANGENT_ROTATION)
+        t = rotateTangent(t, n, rotation * handedness);
     b = cross(n, t) * handedness;
 
     vec3 v = normalize(-vPosition);
-    LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
-    vec3 irradiance = mapRadiance(uDiffuseMap, environmentFromCamera * n); // E_env / pi
-    // Shadows (DESIGN.md §6.5): the dominant light is a share of the environment, E_L =
-    // lightIrradiance max(0, n.l); where the shadow map blocks it, that share is taken out:
-    // E = max(E_env - (1 - visibility) E_L, floor). Lit, or with no light or no shadow map,
-    // E is E_env exactly, as without shadows.
-    if (HAS_SHADOW) {
-        float nl = dot(n, lightDirection.xyz);
-        if (nl > 0.0) {
-            float visibility = shadowVisibilityFiveTaps(vPosition, n);
-            if (visibility < 1.0)
-                irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,
-                                 kShadowFloor * irradiance);
-        }
-    }
+    // A Phong lobe needs no tangent frame (phongShade): without a normal map t and b, and the
+    // tangent's interpolation, are left out.
+    LafortuneShade shade = PHONG_LOBE ? phongShade(v, n, exponent, rhoS, metallicRoughness.w)
+                                      : lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
     // glTF occlusion darkens the environment's light, diffuse and specular alike (not the
     // emission): 1 + strength (texel - 1).
     float occlusion = 1.0;
     if (HAS_OCCLUSION_TEXTURE)
         occlusion = 1.0 + alphaUnlitOcclusion.w * (texture(uOcclusion, slotUv(4)).r - 1.0);
-    vec3 diffuse = occlusion * rhoD * irradiance;
+    // Without a diffuse reflectance (metals, glass: rho_d = 0) the diffuse term is 0 whatever
+    // the irradiance, and the shadow darkens nothing else: both are left out (exactly the
+    // same image, a map lookup and the shadow's taps fewer).
+    vec3 diffuse = vec3(0.0);
+    if (HAS_DIFFUSE) {
+        vec3 irradiance = mapRadiance(uDiffuseMap, environmentFromCamera * n); // E_env / pi
+        // Shadows (DESIGN.md §6.5): the dominant light is a share of the environment, E_L =
+        // lightIrradiance max(0, n.l); where the shadow map blocks it, that share is taken out:
+        // E = max(E_env - (1 - visibility) E_L, floor). Lit, or with no light or no shadow map,
+        // E is E_env exactly, as without shadows.
+        if (HAS_SHADOW) {
+            float nl = dot(n, lightDirection.xyz);
+            if (nl > 0.0) {
+                float visibility = shadowVisibilityFiveTaps(vPosition, n);
+                if (visibility < 1.0)
+                    irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,
+                                     kShadowFloor * irradiance);
+            }
+        }
+        diffuse = occlusion * rhoD * irradiance;
+    }
     vec3 specular = occlusion * shade.specularWeight *
                     environmentRadiance(environmentFromCamera * shade.lobeDirection, shade.glossiness);
     vec3 radiance = diffuse + specular;

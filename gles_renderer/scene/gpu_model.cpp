@@ -197,7 +197,7 @@ GpuMaterial uploadMaterial(const GltfMaterial& m, const std::vector<GlTexture>& 
         bit(block.alphaUnlitOcclusion.w > 0.0f, mesh_feature::kOcclusionTexture) | bit(m.unlit, mesh_feature::kUnlit) |
         bit(m.alphaMode == GltfAlphaMode::Mask, mesh_feature::kAlphaMask) |
         bit(m.alphaMode == GltfAlphaMode::Blend, mesh_feature::kAlphaBlend) |
-        bit(transmissive, mesh_feature::kTransmission) | glossFeatures(block);
+        bit(transmissive, mesh_feature::kTransmission) | glossFeatures(block) | reflectanceFeatures(block);
     return material;
 }
 

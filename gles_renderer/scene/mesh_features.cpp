@@ -42,6 +42,21 @@ uint32_t glossFeatures(const MaterialUniforms& material)
     return 0;
 }
 
+uint32_t reflectanceFeatures(const MaterialUniforms& material)
+{
+    uint32_t features = 0;
+    const glm::vec4& colour = material.baseColorFactor;
+    if (colour.r != 0.0f || colour.g != 0.0f || colour.b != 0.0f)
+        features |= mesh_feature::kDiffuse;
+    if (material.metallicRoughness.z > 0.5f && material.specularFactor.w != 0.0f)
+        features |= mesh_feature::kTangentRotation;
+    const bool lafortune = material.metallicRoughness.z > 0.5f;
+    if (!lafortune || (material.textureFlags.z <= 0.5f && material.lobeFactor.x == -1.0f &&
+                       material.lobeFactor.y == -1.0f && material.lobeFactor.z == 1.0f))
+        features |= mesh_feature::kPhongLobe;
+    return features;
+}
+
 std::string meshVariantDefines(uint32_t features)
 {
     // The macro names of mesh.frag's #ifndef block, bit by bit.
@@ -56,6 +71,9 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kOcclusionTexture, "HAS_OCCLUSION_TEXTURE"},
         {mesh_feature::kUnlit, "IS_UNLIT"},
         {mesh_feature::kTransmission, "HAS_TRANSMISSION"},
+        {mesh_feature::kDiffuse, "HAS_DIFFUSE"},
+        {mesh_feature::kTangentRotation, "HAS_TANGENT_ROTATION"},
+        {mesh_feature::kPhongLobe, "PHONG_LOBE"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
     };

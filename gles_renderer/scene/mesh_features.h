@@ -32,6 +32,14 @@ inline constexpr uint32_t kTransmission = 1U << 14; // light through the surface
 inline constexpr uint32_t kGlossQuarter = 1U << 15;
 inline constexpr uint32_t kGlossHalf = 1U << 16;
 inline constexpr uint32_t kGlossMirror = 1U << 17;
+// What the material's reflectance leaves out (reflectanceFeatures): with rho_d = 0 (metals,
+// glass) no diffuse term, and with it no irradiance lookup and no shadow, which darkens only
+// the diffuse term; without a tangent rotation no sine and cosine per pixel.
+inline constexpr uint32_t kDiffuse = 1U << 18;
+inline constexpr uint32_t kTangentRotation = 1U << 19;
+// The lobe is Phong's (C = -1, -1, 1 everywhere: metallic-roughness, or Lafortune without a
+// lobe texture): its peak is the mirror direction, no tangent frame needed.
+inline constexpr uint32_t kPhongLobe = 1U << 20;
 // Of the view (viewFeatures).
 inline constexpr uint32_t kShadow = 1U << 7;
 inline constexpr uint32_t kRgbmMaps = 1U << 8;
@@ -51,6 +59,15 @@ uint32_t viewFeatures(const FrameUniforms& frame);
 // leaves out the maps below it. The car scene's paint (n = 500), grille (200) and chrome
 // (4096) read two maps, two and one instead of four.
 uint32_t glossFeatures(const MaterialUniforms& material);
+
+// kDiffuse where the material's diffuse reflectance is not 0 (mesh.frag's rho_d is the base
+// colour factor times the texture, times 1 - metallic for metallic-roughness: a factor of 0
+// makes it 0 whatever the texture), kTangentRotation where its Lafortune tangent rotation
+// factor is not 0, kPhongLobe where the lobe is C = (-1, -1, 1) everywhere (metallic-roughness,
+// or Lafortune without a lobe texture). On llvmpipe, which runs every lookup of a pixel
+// whatever its weight, the car scene's chrome, glass and mirror ball skip the shadow's five
+// taps and a map lookup, and every material but the grille its tangent frame.
+uint32_t reflectanceFeatures(const MaterialUniforms& material);
 
 // mesh.frag's #define lines fixing every feature to true or false.
 std::string meshVariantDefines(uint32_t features);

@@ -1,7 +1,8 @@
 // shaders_es/lafortune.glsl, as mesh.frag runs it, against its CPU twin
 // (gles_renderer/ibl/lafortune_shading.h) over a grid of view directions and parameters: the
 // lobe's peak direction and magnitude, the Fresnel factor, the glossiness that selects the
-// maps and the weight of the map lookup, with and without the tangent rotation.
+// maps and the weight of the map lookup, with and without the tangent rotation. Phong lobes
+// (C = -1, -1, 1) go through phongShade, the shortcut without a tangent frame.
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -45,7 +46,10 @@ void main()
     vec3 n = b.xyz;
     vec3 t = rotateTangent(c.xyz, n, c.w);
     vec3 bitangent = cross(n, t);
-    LafortuneShade s = lafortuneShade(a.xyz, t, bitangent, n, d.xyz, a.w, e.xyz, b.w);
+    // Phong lobes through phongShade, as mesh.frag's PHONG_LOBE variants run them: the same
+    // CPU reference holds for both.
+    LafortuneShade s = d.xyz == vec3(-1.0, -1.0, 1.0) ? phongShade(a.xyz, n, a.w, e.xyz, b.w)
+                                                      : lafortuneShade(a.xyz, t, bitangent, n, d.xyz, a.w, e.xyz, b.w);
     outDirection = vec4(s.lobeDirection, s.magnitude);
     outWeight = vec4(s.specularWeight, s.glossiness);
     outFresnel = vec4(s.fresnel, t);

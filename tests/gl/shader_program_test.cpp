@@ -79,7 +79,8 @@ TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
     using namespace mesh_feature;
     // Every lit feature at once (unlit materials skip the lighting: checked below).
     const uint32_t all = kBaseColorTexture | kSecondTexture | kLobeTexture | kRotationTexture | kLafortune |
-                         kNormalMap | kEmission | kShadow | kRgbmMaps | kOcclusionTexture | kAlphaMask | kAlphaBlend;
+                         kNormalMap | kEmission | kShadow | kRgbmMaps | kOcclusionTexture | kAlphaMask | kAlphaBlend |
+                         kDiffuse | kTangentRotation | kPhongLobe;
     std::vector<uint32_t> masks = {0U, all};
     for (uint32_t bit = 1; (bit & all) != 0; bit <<= 1)
         masks.push_back(bit);
@@ -91,7 +92,8 @@ TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
         EXPECT_EQ(optionalUniformLocation(program, "uBaseColor") >= 0, (mask & kBaseColorTexture) != 0);
         EXPECT_EQ(optionalUniformLocation(program, "uNormal") >= 0, (mask & kNormalMap) != 0);
         EXPECT_EQ(optionalUniformLocation(program, "uEmissive") >= 0, (mask & kEmission) != 0);
-        EXPECT_EQ(optionalUniformLocation(program, "uShadowMap") >= 0, (mask & kShadow) != 0);
+        // The shadow darkens the diffuse term only: without one, no shadow map is read.
+        EXPECT_EQ(optionalUniformLocation(program, "uShadowMap") >= 0, (mask & kShadow) != 0 && (mask & kDiffuse) != 0);
         EXPECT_EQ(optionalUniformLocation(program, "uLobe") >= 0,
                   (mask & kLobeTexture) != 0 && (mask & kLafortune) != 0);
         EXPECT_EQ(optionalUniformLocation(program, "uOcclusion") >= 0, (mask & kOcclusionTexture) != 0);
@@ -104,6 +106,37 @@ TEST_F(Shaders, MeshVariantsLinkAndCompileOutWhatTheirMaterialLacks)
     EXPECT_LT(optionalUniformLocation(unlit, "uMirrorMap"), 0);
 }
 
+// The reflectance bits: rho_d is the base colour factor times the rest, so a factor of 0
+// (metals, glass) has no diffuse term whatever its texture; the tangent turns where the
+// Lafortune rotation factor is not 0; the lobe is Phong's for metallic-roughness and for
+// Lafortune lobes C = (-1, -1, 1) without a lobe texture.
+TEST(MeshVariantDefines, TheReflectanceBitsFollowTheMaterialsFactors)
+{
+    MaterialUniforms chrome;
+    chrome.baseColorFactor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    chrome.metallicRoughness.z = 1.0f; // Lafortune
+    chrome.lobeFactor = glm::vec4(-1.0f, -1.0f, 1.0f, 4096.0f);
+    EXPECT_EQ(reflectanceFeatures(chrome), mesh_feature::kPhongLobe);
+    MaterialUniforms paint = chrome;
+    paint.baseColorFactor = glm::vec4(0.0f, 0.0f, 1e-6f, 1.0f);
+    EXPECT_EQ(reflectanceFeatures(paint), mesh_feature::kDiffuse | mesh_feature::kPhongLobe);
+    MaterialUniforms grille = chrome;
+    grille.specularFactor.w = 1.0f;
+    grille.lobeFactor = glm::vec4(-1.0f, -0.8f, 1.0f, 200.0f);
+    EXPECT_EQ(reflectanceFeatures(grille), mesh_feature::kTangentRotation);
+    MaterialUniforms textured = chrome;
+    textured.textureFlags.z = 1.0f; // a lobe texture may change C anywhere
+    EXPECT_EQ(reflectanceFeatures(textured), 0U);
+    // Metallic-roughness has no tangent rotation, whatever the (unused) members hold, and
+    // always a Phong lobe.
+    MaterialUniforms metal = grille;
+    metal.metallicRoughness.z = 0.0f;
+    EXPECT_EQ(reflectanceFeatures(metal), mesh_feature::kPhongLobe);
+    const std::string defines = meshVariantDefines(mesh_feature::kShadow);
+    EXPECT_NE(defines.find("#define HAS_DIFFUSE false\n"), std::string::npos) << defines;
+    EXPECT_NE(defines.find("#define HAS_TANGENT_ROTATION false\n"), std::string::npos) << defines;
+}
+
 TEST(MeshVariantDefines, FixEveryFeatureOnce)
 {
     const std::string defines = meshVariantDefines(mesh_feature::kShadow);
@@ -114,7 +147,7 @@ TEST(MeshVariantDefines, FixEveryFeatureOnce)
     size_t lines = 0;
     for (const char c : defines)
         lines += c == '\n' ? 1 : 0;
-    EXPECT_EQ(lines, 13U); // twelve features and the alpha mode
+    EXPECT_EQ(lines, 16U); // fifteen features and the alpha mode
     // The output's encoding is left to the uniform: the frame and the cube faces share a
     // variant (mesh_features.h).
     EXPECT_EQ(defines.find("WRITES_RADIANCE"), std::string::npos) << defines;

@@ -452,6 +452,37 @@ TEST(Shadows, OneVirtualSphereShadowsAnother)
     EXPECT_NEAR(litRadiance - shadowedRadiance, 1.0 / kPi, 0.03);
 }
 
+// The shadow takes the light's share out of the diffuse irradiance only: a surface without
+// a diffuse reflectance (rho_d = 0: a metal, glass) looks the same in the other sphere's
+// shadow as lit, to the code value (mesh.frag leaves its shadow out, HAS_DIFFUSE), while its
+// specular reflection of the sky still shows; a rho_d of 0.5 is darkened by rho_d E_L / pi.
+TEST(Shadows, OnlyTheDiffuseTermIsShadowed)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 0.5f);
+    const glm::dvec3 towardsLight = worldDirection(45.0, 0.0);
+    renderer.setLight(light(towardsLight, 1.0f));
+    const glm::dvec3 centre(0.0, 0.0, 0.1);
+    const glm::dvec2 facingLight = pixelOf(centre + 0.1 * towardsLight);
+    const auto centreCodes = [&](float diffuse) {
+        renderer.removeModels();
+        GltfModel sphere = makeUvSphere(48, 24);
+        sphere.materials[0].baseColorFactor = glm::vec4(diffuse, diffuse, diffuse, 1.0f);
+        sphere.materials[0].metallicFactor = 0.0f;
+        sphere.materials[0].roughnessFactor = 0.5f;
+        const ModelId model = renderer.addModel(sphere);
+        const DrawItem receiver{model, placed(centre, glm::dvec3(0.2)), -1};
+        const DrawItem both[] = {receiver, {model, placed(centre + 0.35 * towardsLight, glm::dvec3(0.2)), -1}};
+        return glm::ivec2(code(renderOverGrey(renderer, {&receiver, 1}), facingLight),
+                          code(renderOverGrey(renderer, both), facingLight));
+    };
+    const glm::ivec2 specularOnly = centreCodes(0.0f);
+    EXPECT_GT(specularOnly.x, 10); // the dielectric's reflection of the sky
+    EXPECT_EQ(specularOnly.y, specularOnly.x);
+    const glm::ivec2 diffuse = centreCodes(0.5f);
+    EXPECT_LT(diffuse.y, diffuse.x - 10);
+}
+
 // Convex objects cannot shadow themselves where they face the light: a sphere alone, and the
 // ground around a floating box outside its shadow, look as with shadows off (no acne).
 TEST(Shadows, NoShadowAcneOnAConvexObject)
