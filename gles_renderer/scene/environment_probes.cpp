@@ -96,6 +96,17 @@ bool samePhantoms(const std::vector<std::pair<int, glm::dmat4>>& a, const std::v
 
 } // namespace
 
+FrameUniforms cubeFaceFrameUniforms(int face, int size, bool rgbm)
+{
+    FrameUniforms frame;
+    frame.clipFromCamera = glm::mat4(clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres));
+    const glm::mat3 environmentFromFace(glm::transpose(faceCameraFromCube(face)));
+    for (int c = 0; c < 3; ++c)
+        frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
+    frame.frameParams = glm::vec4(-1.0f, 1.0f, rgbm ? 1.0f : 0.0f, 1.0f);
+    return frame;
+}
+
 EnvironmentProbes::EnvironmentProbes(const EnvironmentMapOptions& options)
     : options_(options), pipeline_(options.ibl), environmentMaps_(pipeline_.createMaps())
 {
@@ -226,7 +237,6 @@ void EnvironmentProbes::drawProbeFace(const Probe& probe, int face, bool phantom
                                       const ShadowPass& shadows, const CameraView& camera, RenderStats& stats)
 {
     const int size = pipeline_.settings().mirrorSize;
-    const glm::dmat4 clip = clipFromCamera(faceIntrinsics(size), size, size, kFaceNearMetres);
     // Phantoms carry the camera image (phantom.frag) when the frame has one and the phantoms'
     // depth as the camera saw them.
     const bool cameraPhantoms = camera.texture != 0 && camera.phantomDepth != 0;
@@ -256,13 +266,7 @@ void EnvironmentProbes::drawProbeFace(const Probe& probe, int face, bool phantom
         faceItems_.push_back(item);
         faceMaps_.push_back(maps_[i]);
     }
-    FrameUniforms frame;
-    frame.clipFromCamera = glm::mat4(clip);
-    const glm::mat3 environmentFromFace(glm::transpose(faceFromCube));
-    for (int c = 0; c < 3; ++c)
-        frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
-    // Mirrored frame, linear radiance (RGBM-encoded where the maps are RGBA8).
-    frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline_.rgbm() ? 1.0f : 0.0f, 1.0f);
+    FrameUniforms frame = cubeFaceFrameUniforms(face, size, pipeline_.rgbm());
     shadows.fillView(frame, glm::inverse(faceFromCamera));
     meshes.draw(frame, models, faceItems_, faceMaps_, -1, phantoms, MeshPass::Detail::Proxy, faceIntrinsics(size).fx,
                 cameraPhantoms ? &phantomCamera : nullptr);

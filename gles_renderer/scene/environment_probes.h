@@ -26,6 +26,12 @@
 
 namespace lumar {
 
+// The Frame uniforms of cube face `face` (cube_face_camera.h) of a map `size` texels square:
+// the face camera's projection, its axes in the environment frame, a mirrored frame (the
+// faces' cameras are) that writes linear radiance, RGBM-encoded where `rgbm`, at exposure 1.
+// No light: ShadowPass::fillView adds the view's.
+FrameUniforms cubeFaceFrameUniforms(int face, int size, bool rgbm);
+
 class EnvironmentProbes {
 public:
     explicit EnvironmentProbes(const EnvironmentMapOptions& options);

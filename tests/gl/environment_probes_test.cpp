@@ -15,6 +15,7 @@
 #include "gles_renderer/ibl/cube_face_camera.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
 
@@ -279,12 +280,7 @@ struct FaceRig {
             std::vector<DrawItem> items = cubeItems;
             for (DrawItem& item : items)
                 item.cameraFromModel = glm::dmat4(faceCameraFromCube(face)) * item.cameraFromModel;
-            FrameUniforms frame;
-            frame.clipFromCamera = glm::mat4(clipFromCamera(faceIntrinsics(size), size, size, 0.002));
-            const glm::mat3 environmentFromFace(glm::transpose(faceCameraFromCube(face)));
-            for (int c = 0; c < 3; ++c)
-                frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
-            frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline.rgbm() ? 1.0f : 0.0f, 0.0f);
+            const FrameUniforms frame = cubeFaceFrameUniforms(face, size, pipeline.rgbm());
             meshes.draw(frame, gpu, items, lighting, -1, phantoms, detail, focalPixels);
         });
     }

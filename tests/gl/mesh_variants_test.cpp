@@ -13,6 +13,7 @@
 #include "gles_renderer/ibl/cube_face_camera.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_projection.h"
+#include "gles_renderer/scene/environment_probes.h"
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/mesh_pass.h"
 
@@ -58,12 +59,7 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
         glClear(GL_COLOR_BUFFER_BIT);
         const glm::dmat4 faceFromCube(faceCameraFromCube(f));
         const DrawItem item{0, faceFromCube * test::translation(0.2, 0.0, 0.0) * glm::dmat4(glm::dmat3(0.1))};
-        FrameUniforms frame;
-        frame.clipFromCamera = glm::mat4(clipFromCamera(faceIntrinsics(faceSize), faceSize, faceSize, 0.002));
-        const glm::mat3 environmentFromFace(glm::transpose(faceCameraFromCube(f)));
-        for (int c = 0; c < 3; ++c)
-            frame.environmentFromCamera[c] = glm::vec4(environmentFromFace[c], 0.0f);
-        frame.frameParams = glm::vec4(-1.0f, 1.0f, pipeline.rgbm() ? 1.0f : 0.0f, 1.0f);
+        const FrameUniforms frame = cubeFaceFrameUniforms(f, faceSize, pipeline.rgbm());
         const DrawItem items[] = {item};
         meshes.draw(frame, gpu, items, lighting, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Full, 0.0);
     });
