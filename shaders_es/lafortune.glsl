@@ -23,6 +23,20 @@ struct LafortuneShade {
     vec3 specularWeight; // rho_s' * magnitude * g', what multiplies the map lookup
 };
 
+// What follows from the lobe's direction and magnitude (set in s): the paper's Fresnel factor,
+// the glossiness it raises, and the weight on the maps' radiance. Shared by lafortuneShade
+// and phongShade.
+void finishShade(inout LafortuneShade s, vec3 n, float exponent, vec3 rhoS, float phi)
+{
+    float cosine = clamp(dot(s.lobeDirection, n), 0.0, 1.0);
+    s.fresnel = phi >= 1e-3 ? pow(1.0 - cosine, 1.0 / phi - 1.0) : 0.0;
+    float gloss = clamp(log2(max(exponent, 1.0)) / kLog2MirrorExponent, 0.0, 1.0);
+    s.glossiness = gloss + (1.0 - gloss) * s.fresnel;
+    vec3 rhoSPrime = rhoS + (1.0 - rhoS) * s.fresnel;
+    float falloff = cosine + (1.0 - cosine) * s.fresnel;
+    s.specularWeight = rhoSPrime * s.magnitude * falloff;
+}
+
 // v: unit direction to the viewer; t, b, n: the (rotated) local frame; lobe: C_x, C_y, C_z;
 // exponent n >= 1; rhoS: specular albedo; phi in [0, 1) (below 1e-3: no Fresnel).
 // rho_s is normalised so that a Phong lobe (C = -1, -1, 1) reflects the fraction rho_s of
@@ -35,13 +49,7 @@ LafortuneShade lafortuneShade(vec3 v, vec3 t, vec3 b, vec3 n, vec3 lobe, float e
     s.lobeDirection = len > 1e-8 ? (t * peak.x + b * peak.y + n * peak.z) / len : n;
     // exp2 of a clamped log: |C| > 1 with a large n would overflow to infinity.
     s.magnitude = len > 1e-8 ? exp2(min(exponent * log2(len), 4.0)) : 0.0;
-    float cosine = clamp(dot(s.lobeDirection, n), 0.0, 1.0);
-    s.fresnel = phi >= 1e-3 ? pow(1.0 - cosine, 1.0 / phi - 1.0) : 0.0;
-    float gloss = clamp(log2(max(exponent, 1.0)) / kLog2MirrorExponent, 0.0, 1.0);
-    s.glossiness = gloss + (1.0 - gloss) * s.fresnel;
-    vec3 rhoSPrime = rhoS + (1.0 - rhoS) * s.fresnel;
-    float falloff = cosine + (1.0 - cosine) * s.fresnel;
-    s.specularWeight = rhoSPrime * s.magnitude * falloff;
+    finishShade(s, n, exponent, rhoS, phi);
     return s;
 }
 
@@ -52,14 +60,8 @@ LafortuneShade phongShade(vec3 v, vec3 n, float exponent, vec3 rhoS, float phi)
 {
     LafortuneShade s;
     s.lobeDirection = reflect(-v, n);
-    s.magnitude = 1.0;
-    float cosine = clamp(dot(s.lobeDirection, n), 0.0, 1.0);
-    s.fresnel = phi >= 1e-3 ? pow(1.0 - cosine, 1.0 / phi - 1.0) : 0.0;
-    float gloss = clamp(log2(max(exponent, 1.0)) / kLog2MirrorExponent, 0.0, 1.0);
-    s.glossiness = gloss + (1.0 - gloss) * s.fresnel;
-    vec3 rhoSPrime = rhoS + (1.0 - rhoS) * s.fresnel;
-    float falloff = cosine + (1.0 - cosine) * s.fresnel;
-    s.specularWeight = rhoSPrime * falloff;
+    s.magnitude = 1.0; // a constant: finishShade's product by it folds away
+    finishShade(s, n, exponent, rhoS, phi);
     return s;
 }
 
