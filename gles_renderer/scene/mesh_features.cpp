@@ -4,6 +4,19 @@
 #include <utility>
 
 namespace lumar {
+namespace {
+
+// mesh.frag's IS_LAFORTUNE and HAS_LOBE_TEXTURE, as the generic program reads them.
+bool isLafortune(const MaterialUniforms& material)
+{
+    return material.metallicRoughness.z > 0.5f;
+}
+bool hasLobeTexture(const MaterialUniforms& material)
+{
+    return material.textureFlags.z > 0.5f;
+}
+
+} // namespace
 
 uint32_t viewFeatures(const FrameUniforms& frame)
 {
@@ -18,9 +31,9 @@ uint32_t viewFeatures(const FrameUniforms& frame)
 uint32_t glossFeatures(const MaterialUniforms& material)
 {
     double exponent = 1.0;
-    if (material.metallicRoughness.z > 0.5f) {
+    if (isLafortune(material)) {
         // Lafortune: n = max(factor x the lobe texture's alpha, 1); a texture may lower it.
-        if (material.textureFlags.z > 0.5f)
+        if (hasLobeTexture(material))
             return 0;
         exponent = std::max(double(material.lobeFactor.w), 1.0);
     } else {
@@ -48,11 +61,10 @@ uint32_t reflectanceFeatures(const MaterialUniforms& material)
     const glm::vec4& colour = material.baseColorFactor;
     if (colour.r != 0.0f || colour.g != 0.0f || colour.b != 0.0f)
         features |= mesh_feature::kDiffuse;
-    if (material.metallicRoughness.z > 0.5f && material.specularFactor.w != 0.0f)
+    if (isLafortune(material) && material.specularFactor.w != 0.0f)
         features |= mesh_feature::kTangentRotation;
-    const bool lafortune = material.metallicRoughness.z > 0.5f;
-    if (!lafortune || (material.textureFlags.z <= 0.5f && material.lobeFactor.x == -1.0f &&
-                       material.lobeFactor.y == -1.0f && material.lobeFactor.z == 1.0f))
+    if (!isLafortune(material) || (!hasLobeTexture(material) && material.lobeFactor.x == -1.0f &&
+                                   material.lobeFactor.y == -1.0f && material.lobeFactor.z == 1.0f))
         features |= mesh_feature::kPhongLobe;
     return features;
 }

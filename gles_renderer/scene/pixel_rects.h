@@ -3,6 +3,7 @@
 // with the scissor test, over the union alone instead of its bounding rectangle.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -12,7 +13,22 @@ namespace lumar {
 struct PixelRect {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     [[nodiscard]] bool empty() const { return x1 <= x0 || y1 <= y0; }
+    [[nodiscard]] double area() const { return empty() ? 0.0 : double(x1 - x0) * double(y1 - y0); }
+    [[nodiscard]] bool overlaps(const PixelRect& r) const
+    {
+        return !empty() && !r.empty() && r.x0 < x1 && x0 < r.x1 && r.y0 < y1 && y0 < r.y1;
+    }
 };
+
+// The bounding rectangle of a and b; an empty one adds nothing.
+[[nodiscard]] inline PixelRect bounding(const PixelRect& a, const PixelRect& b)
+{
+    if (a.empty())
+        return b;
+    if (b.empty())
+        return a;
+    return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
 
 // Disjoint rectangles whose union is the union of `rects` (empty ones ignored): the grid of
 // every rectangle's edges, its covered cells merged into runs along rows, and runs of equal

@@ -333,8 +333,7 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
                 std::swap(fit_.prisms, freshFit_.prisms);
                 if (!part.empty()) {
                     drawCasters(models, items, &part);
-                    stats.shadowMapDrawn =
-                        double(part.x1 - part.x0) * double(part.y1 - part.y0) / (double(size_) * size_);
+                    stats.shadowMapDrawn = part.area() / (double(size_) * size_);
                 }
                 break;
             case Redraw::None:
@@ -363,7 +362,7 @@ ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector
         std::abs(fit.nearZ - fit_.nearZ) > kMetres || std::abs(fit.farZ - fit_.farZ) > kMetres)
         return Redraw::All;
     bool posed = false;
-    part = {size_, size_, 0, 0};
+    part = {};
     for (size_t i = 0; i < casters.size(); ++i) {
         const CasterKey& a = drawnCasters_[i];
         const CasterKey& b = casters[i];
@@ -379,16 +378,13 @@ ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector
             continue;
         // Posed where it stands (an animation): its depth changes where it was and where it is.
         posed = true;
-        for (const PixelRect& r : {texelsOf(a.low, a.high), texelsOf(b.low, b.high)})
-            if (!r.empty())
-                part = {std::min(part.x0, r.x0), std::min(part.y0, r.y0), std::max(part.x1, r.x1),
-                        std::max(part.y1, r.y1)};
+        part = bounding(part, bounding(texelsOf(a.low, a.high), texelsOf(b.low, b.high)));
     }
     if (!posed)
         return Redraw::None;
     // Most of the map: drawn whole (no scissor, one clear).
     constexpr double kWholeShare = 0.5;
-    if (!part.empty() && double(part.x1 - part.x0) * double(part.y1 - part.y0) > kWholeShare * size_ * size_)
+    if (part.area() > kWholeShare * size_ * size_)
         return Redraw::All;
     return Redraw::Part;
 }
@@ -544,11 +540,8 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
         if (!isCaster(item))
             continue;
         const CasterKey& key = drawnCasters_[caster++];
-        if (part) {
-            const PixelRect r = texelsOf(key.low, key.high);
-            if (r.empty() || r.x1 <= part->x0 || r.x0 >= part->x1 || r.y1 <= part->y0 || r.y0 >= part->y1)
-                continue;
-        }
+        if (part && !texelsOf(key.low, key.high).overlaps(*part))
+            continue;
         const GpuModel& model = models[size_t(item.model)];
         // The simplified stand-in whose error stays within a texel of the map.
         const glm::dvec3 extent = glm::dvec3(model.boundsMax) - glm::dvec3(model.boundsMin);
