@@ -160,10 +160,7 @@ TEST(CameraEnvironment, PassesTheCameraImageThrough)
         Image8 output;
         renderer.readback(output);
         ASSERT_EQ(output.data.size(), input.data.size());
-        int worst = 0;
-        for (size_t i = 0; i < input.data.size(); ++i)
-            worst = std::max(worst, std::abs(int(output.data[i]) - int(input.data[i])));
-        EXPECT_LE(worst, 1) << "frame " << frame;
+        EXPECT_LE(test::maxCodeDifference(output, input), 1) << "frame " << frame;
     }
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -51,6 +52,18 @@ inline CameraIntrinsics makeIntrinsics(int width, int height, double fx, double 
     k.cx = cx;
     k.cy = cy;
     return k;
+}
+
+// The largest difference between two images' bytes (code values); INT_MAX when their sizes
+// differ, so that a bound on it fails.
+inline int maxCodeDifference(const Image8& a, const Image8& b)
+{
+    if (a.data.size() != b.data.size())
+        return std::numeric_limits<int>::max();
+    int worst = 0;
+    for (size_t i = 0; i < a.data.size(); ++i)
+        worst = std::max(worst, std::abs(int(a.data[i]) - int(b.data[i])));
+    return worst;
 }
 
 inline Image8 solidImage(int width, int height, uint8_t r, uint8_t g, uint8_t b)

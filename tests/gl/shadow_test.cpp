@@ -500,10 +500,7 @@ TEST(Shadows, NoShadowAcneOnAConvexObject)
         const DrawItem item{renderers[r]->addModel(sphere), placed({0.0, 0.0, 0.1}, glm::dvec3(0.3)), -1};
         images[r] = renderOverGrey(*renderers[r], {&item, 1});
     }
-    int worst = 0;
-    for (size_t i = 0; i < images[0].data.size(); ++i)
-        worst = std::max(worst, std::abs(int(images[0].data[i]) - int(images[1].data[i])));
-    EXPECT_LE(worst, 1);
+    EXPECT_LE(test::maxCodeDifference(images[0], images[1]), 1);
 }
 
 // With shadows off, a light set changes nothing: the frame is today's (the phantom depth-only,
@@ -527,10 +524,7 @@ TEST(Shadows, OffLeavesTheFrameAsWithoutShadows)
                                   {plane, placed({0.0, 0.0, 0.0}, {0.8, 0.8, 1.0}), -1, true, true}};
         images[r] = renderOverGrey(*renderers[r], items);
     }
-    int worst = 0;
-    for (size_t i = 0; i < images[0].data.size(); ++i)
-        worst = std::max(worst, std::abs(int(images[0].data[i]) - int(images[1].data[i])));
-    EXPECT_LE(worst, 1);
+    EXPECT_LE(test::maxCodeDifference(images[0], images[1]), 1);
     // The ground around the box is the camera image, exactly.
     EXPECT_EQ(code(images[0], pixelOf({-0.07, 0.0, 0.0})), kGrey);
 }
@@ -616,10 +610,7 @@ TEST(Shadows, TheMapIsKeptWhileOnlyTheCameraMovesAndShadowsAsIfDrawnAgain)
         for (int x = 0; x < kWidth; ++x)
             darkened += fresh.at(x, y)[1] < kGrey - 10;
     EXPECT_GT(darkened, 300) << "the shadows are in view";
-    int worst = 0;
-    for (size_t i = 0; i < kept.data.size(); ++i)
-        worst = std::max(worst, std::abs(int(kept.data[i]) - int(fresh.data[i])));
-    EXPECT_LE(worst, 1);
+    EXPECT_LE(test::maxCodeDifference(kept, fresh), 1);
 }
 
 TEST(Shadows, TheMapIsDrawnAgainWhenACasterMovesTheLightTurnsOrTheReceiversMove)
@@ -656,10 +647,9 @@ TEST(Shadows, TheMapIsDrawnAgainWhenACasterMovesTheLightTurnsOrTheReceiversMove)
 }
 
 // An animated caster changes shape where it stands: each pose draws the map again (where its
-// bounds, and so the light's fit, stay too), and the shadow follows the pose. The bending bar (0.2 m tall at this
-// scale) over the ground; at 1 s its upper half lies along -x, so the shadow changes. The bending bar
-// (tests/unit/render/animated_gltf.h) 0.2 m tall at this scale, standing in the plane y = 0 from 5 cm above the ground
-// at the origin; at 1 s its upper half lies along -x.
+// bounds, and so the light's fit, stay too), and the shadow follows the pose. The bending bar
+// (tests/unit/render/animated_gltf.h), 0.2 m tall at this scale, stands in the plane y = 0 from
+// 5 cm above the ground at the origin; at 1 s its upper half lies along -x.
 GltfModel bendingBarModel(const test::ScratchDir& dir)
 {
     GltfModel bar = loadGltfModel(test::bendingBar().write(dir, "bar"));
@@ -746,13 +736,11 @@ TEST(Shadows, AnAnimatedCasterDrawsItsPartOfTheMapAsTheWholeWouldBe)
     animated = renderer.addModel(bar);
     renderer.poseModel(animated, bent);
     EXPECT_EQ(mapDrawn(renderer, scene(), &whole), 1.0);
-    int worst = 0, moved = 0;
-    for (size_t i = 0; i < whole.data.size(); ++i) {
-        worst = std::max(worst, std::abs(int(partly.data[i]) - int(whole.data[i])));
+    int moved = 0;
+    for (size_t i = 0; i < whole.data.size(); ++i)
         moved += std::abs(int(atRest.data[i]) - int(whole.data[i])) > 10;
-    }
     EXPECT_GT(moved, 100) << "the pose moves the shadow";
-    EXPECT_LE(worst, 1);
+    EXPECT_LE(test::maxCodeDifference(partly, whole), 1);
 }
 
 } // namespace
