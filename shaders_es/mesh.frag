@@ -88,6 +88,9 @@ uniform sampler2D uTransmission;      // linear r: x the transmission factor
 #ifndef PHONG_LOBE // the lobe is Phong's (C = -1, -1, 1 everywhere): its peak is the mirror direction
 #define PHONG_LOBE (!IS_LAFORTUNE || (!HAS_LOBE_TEXTURE && lobeFactor.xyz == vec3(-1.0, -1.0, 1.0)))
 #endif
+#ifndef HAS_VERTEX_EXTRAS // the primitive has COLOR_0 or TEXCOORD_1 (else white and (0, 0))
+#define HAS_VERTEX_EXTRAS true
+#endif
 #ifndef HAS_SHADOW
 #define HAS_SHADOW (lightDirection.w > 0.5)
 #endif
@@ -107,6 +110,21 @@ in vec4 vTangent;
 in vec2 vUv;
 in vec4 vColor; // COLOR_0, linear (white without)
 in vec2 vUv1;
+// What vColor and vUv1 hold: the constants mesh_pass.cpp sets for primitives without the
+// attributes, which need then not be interpolated (llvmpipe interpolates every input a
+// shader reads at every pixel: six components of twenty-four).
+vec4 vertexColour()
+{
+    return HAS_VERTEX_EXTRAS ? vColor : vec4(1.0);
+}
+vec2 secondUv()
+{
+    return HAS_VERTEX_EXTRAS ? vUv1 : vec2(0.0);
+}
+// The shadow map coordinates of the position and the normal offset's share per unit of
+// vNormal (mesh.vert; shadow.glsl's shadowCoordinatesInterpolated).
+in vec3 vShadowCentre;
+in vec3 vShadowNormal;
 
 layout(location = 0) out vec4 fragColor;
 // The frame's second attachment, where lens effects are on (gles_renderer/scene/lens_effects.h):
@@ -175,7 +193,7 @@ vec3 environmentRadiance(vec3 d, float s)
 vec2 slotUv(int slot)
 {
     vec4 row0 = uvTransforms[2 * slot];
-    vec3 uv = vec3(row0.w > 0.5 ? vUv1 : vUv, 1.0);
+    vec3 uv = vec3(row0.w > 0.5 ? secondUv() : vUv, 1.0);
     return vec2(dot(row0.xyz, uv), dot(uvTransforms[2 * slot + 1].xyz, uv));
 }
 
@@ -201,7 +219,7 @@ vec3 transmittedRadiance(vec3 v, vec3 n, float gloss)
 vec2 transmissionTexelUv()
 {
     vec4 row0 = transmissionUv[0];
-    vec3 uv = vec3(row0.w > 0.5 ? vUv1 : vUv, 1.0);
+    vec3 uv = vec3(row0.w > 0.5 ? secondUv() : vUv, 1.0);
     return vec2(dot(row0.xyz, uv), dot(transmissionUv[1].xyz, uv));
 }
 
@@ -211,8 +229,9 @@ void main()
     vec4 baseTexel = vec4(1.0);
     if (HAS_BASE_COLOR_TEXTURE)
         baseTexel = texture(uBaseColor, slotUv(0));
-    vec3 base = baseTexel.rgb * vColor.rgb;
-    float alpha = baseColorFactor.a * baseTexel.a * vColor.a;
+    vec4 colour = vertexColour();
+    vec3 base = baseTexel.rgb * colour.rgb;
+    float alpha = baseColorFactor.a * baseTexel.a * colour.a;
     // RGBM environment maps keep their scale in alpha: BLEND is drawn as a cut-out there.
     bool blendable = !(WRITES_RADIANCE && MAPS_RGBM);
     float alphaMode = ALPHA_MODE;
@@ -320,7 +339,16 @@ void main()
         if (HAS_SHADOW) {
             float nl = dot(n, lightDirection.xyz);
             if (nl > 0.0) {
-                float visibility = shadowVisibilityFiveTaps(vPosition, n);
+                // Without a normal map n is vNormal normalised (turned round on back faces):
+                // the offset along it is the interpolated one, scaled as normalize() does.
+                float visibility;
+                if (HAS_NORMAL_MAP) {
+                    visibility = shadowVisibilityFiveTaps(vPosition, n);
+                } else {
+                    float along = (gl_FrontFacing ? 1.0 : -1.0) * inversesqrt(dot(vNormal, vNormal));
+                    visibility =
+                        shadowVisibilityFiveTapsAt(shadowCoordinatesInterpolated(vShadowCentre, vShadowNormal * along));
+                }
                 if (visibility < 1.0)
                     irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,
                                      kShadowFloor * irradiance);

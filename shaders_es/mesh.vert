@@ -30,6 +30,17 @@ out vec4 vTangent;
 out vec2 vUv;
 out vec4 vColor;
 out vec2 vUv1;
+// The position in the dominant light's shadow map (xy the texel position, z the depth, all
+// in [0, 1] inside its frustum; shadow.glsl), and what the normal offset adds there per unit
+// of the interpolated normal vNormal. The light's projection is orthographic (affine), so
+// these interpolate to exactly what mesh.frag would compute from vPosition and vNormal per
+// pixel (shadowCoordinatesInterpolated), 19 multiply-adds a pixel fewer. Unused (and removed
+// by the linker) where mesh.frag reads no shadow.
+out vec3 vShadowCentre;
+out vec3 vShadowNormal;
+
+// shadow.glsl's normal offset (shadowCoordinates), in texels.
+const float kShadowNormalOffsetTexels = 1.5;
 
 void main()
 {
@@ -41,4 +52,6 @@ void main()
     vColor = aColor;
     vUv1 = aUv1;
     gl_Position = clipFromCamera * position;
+    vShadowCentre = (lightClipFromCamera * position).xyz * 0.5 + 0.5;
+    vShadowNormal = mat3(lightClipFromCamera) * vNormal * (0.5 * kShadowNormalOffsetTexels * shadowParams.z);
 }

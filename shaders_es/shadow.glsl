@@ -28,6 +28,18 @@ vec4 shadowCoordinates(vec3 position, vec3 normal)
     return vec4(uvz.xy, uvz.z - shadowParams.w, inside ? 1.0 : 0.0);
 }
 
+// shadowCoordinates from the parts a vertex shader can interpolate (mesh.vert): `centre`, the
+// position's map coordinates ((lightClipFromCamera p).xyz * 0.5 + 0.5), and `normalOffset`,
+// what the normal offset adds to them (0.5 * mat3(lightClipFromCamera) * offset * normal). The
+// light's projection is orthographic, so both are affine in the vertex's position and normal:
+// interpolated, they are the pixel's.
+vec4 shadowCoordinatesInterpolated(vec3 centre, vec3 normalOffset)
+{
+    vec3 uvz = centre + normalOffset;
+    bool inside = all(greaterThanEqual(uvz, vec3(0.0))) && all(lessThanEqual(uvz, vec3(1.0)));
+    return vec4(uvz.xy, uvz.z - shadowParams.w, inside ? 1.0 : 0.0);
+}
+
 // The kernel's four corners (0 to 4 lit): where they agree (all lit or all shadowed:
 // everywhere but a penumbra a few texels wide) they are the answer.
 float shadowCorners(vec4 coordinates)
@@ -59,9 +71,13 @@ float shadowVisibilityWithCorners(vec4 coordinates, float corners)
 // kernel where the corners agree (llvmpipe runs every tap of a branch that any pixel of a
 // block takes: mesh.frag, which found the nine taps ~10 % of its time on the car scene).
 // The centre tap fills the middle of the penumbra's ramp between the corners.
-float shadowVisibilityFiveTaps(vec3 position, vec3 normal)
+float shadowVisibilityFiveTapsAt(vec4 coordinates)
 {
-    vec4 coordinates = shadowCoordinates(position, normal);
     float centre = texture(uShadowMap, coordinates.xyz);
     return coordinates.w < 0.5 ? 1.0 : (shadowCorners(coordinates) + centre) / 5.0;
+}
+
+float shadowVisibilityFiveTaps(vec3 position, vec3 normal)
+{
+    return shadowVisibilityFiveTapsAt(shadowCoordinates(position, normal));
 }

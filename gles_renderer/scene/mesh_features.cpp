@@ -86,6 +86,7 @@ std::string meshVariantDefines(uint32_t features)
         {mesh_feature::kDiffuse, "HAS_DIFFUSE"},
         {mesh_feature::kTangentRotation, "HAS_TANGENT_ROTATION"},
         {mesh_feature::kPhongLobe, "PHONG_LOBE"},
+        {mesh_feature::kVertexExtras, "HAS_VERTEX_EXTRAS"},
         {mesh_feature::kShadow, "HAS_SHADOW"},
         {mesh_feature::kRgbmMaps, "MAPS_RGBM"},
     };

@@ -40,6 +40,9 @@ inline constexpr uint32_t kTangentRotation = 1U << 19;
 // The lobe is Phong's (C = -1, -1, 1 everywhere: metallic-roughness, or Lafortune without a
 // lobe texture): its peak is the mirror direction, no tangent frame needed.
 inline constexpr uint32_t kPhongLobe = 1U << 20;
+// Of the primitive (MeshPass): it has COLOR_0 or TEXCOORD_1 arrays (GpuPrimitive::extras).
+// Without, mesh.frag reads the constants white and (0, 0) instead of interpolating them.
+inline constexpr uint32_t kVertexExtras = 1U << 21;
 // Of the view (viewFeatures).
 inline constexpr uint32_t kShadow = 1U << 7;
 inline constexpr uint32_t kRgbmMaps = 1U << 8;

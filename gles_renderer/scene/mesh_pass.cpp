@@ -332,7 +332,8 @@ void MeshPass::drawPrimitive(const DrawItem& item, const GpuModel& model, const 
     // A mirroring transform turns the winding around (see clipFromCamera for CW).
     state.setFrontFace(determinant > 0.0 ? GL_CW : GL_CCW);
     if (variants) {
-        const uint32_t features = model.materials[primitive.material].features | viewFeatures_;
+        const uint32_t features = model.materials[primitive.material].features | viewFeatures_ |
+                                  (primitive.extras.name() != 0 ? mesh_feature::kVertexExtras : 0U);
         if (state.variantFeatures != features) {
             state.variant = &variant(features);
             state.variantFeatures = features;
