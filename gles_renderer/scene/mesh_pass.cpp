@@ -94,8 +94,12 @@ MeshPass::MeshPass()
       phantomInverseExposureLocation_(uniformLocation(phantomProgram_, "uInverseExposure")),
       depthOnly_(linkProgram(kDepthOnlyProgram)),
       depthOnlyCameraFromMeshLocation_(uniformLocation(depthOnly_, "uCameraFromMesh")),
-      frameUniforms_(GlBuffer::create())
+      frameUniforms_(GlBuffer::create()), levelZero_(GlSampler::create())
 {
+    glSamplerParameteri(levelZero_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(levelZero_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(levelZero_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(levelZero_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     bindUniformBlock(depthOnly_, "Frame", kFrameBlockBinding);
     glUseProgram(phantomProgram_.name());
     glUniform1i(uniformLocation(phantomProgram_, "uCameraImage"), GLint(kCameraImageUnit));
@@ -111,6 +115,12 @@ MeshPass::MeshPass()
     glBufferData(GL_UNIFORM_BUFFER, sizeof(FrameUniforms), nullptr, GL_DYNAMIC_DRAW);
     checkGlError("creating the mesh pass");
 }
+
+namespace {
+// The units of the four environment maps (levelZero_).
+constexpr GLuint kMapUnits[] = {MeshPass::kDiffuseMapUnit, MeshPass::kGlossy1MapUnit, MeshPass::kGlossy2MapUnit,
+                                MeshPass::kMirrorMapUnit};
+} // namespace
 
 const MeshPass::Variant& MeshPass::variant(uint32_t features) const
 {
@@ -164,6 +174,9 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
     glActiveTexture(GL_TEXTURE0 + kShadowMapUnit);
     glBindTexture(GL_TEXTURE_2D, shadowMap_);
 
+    for (const GLuint unit : kMapUnits)
+        glBindSampler(unit, levelZero_.name());
+
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -207,6 +220,8 @@ void MeshPass::draw(const FrameUniforms& frame, const std::vector<GpuModel>& mod
         drawBlended(items, maps, models, state, !rgbmMap);
     }
     glBindVertexArray(0);
+    for (const GLuint unit : kMapUnits)
+        glBindSampler(unit, 0);
 }
 
 void MeshPass::drawBlended(std::span<const DrawItem> items, std::span<const IblMaps* const> maps,

@@ -148,6 +148,10 @@ private:
     GlProgram depthOnly_;
     GLint depthOnlyCameraFromMeshLocation_;
     GlBuffer frameUniforms_;
+    // Bound to the environment maps' units while the pass draws: every lookup of the maps
+    // reads level 0 (textureLod 0, magnified), which a mipmapped map's own LINEAR_MIPMAP_LINEAR
+    // filter reads too, but llvmpipe then builds the level selection into every lookup.
+    GlSampler levelZero_;
     GLuint shadowMap_ = 0;
     std::function<void()> transparentStart_;
     std::function<void(bool)> blendingHook_;
