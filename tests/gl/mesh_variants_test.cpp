@@ -103,6 +103,57 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
     EXPECT_EQ(meshes.linkedVariants(), 1U);
 }
 
+// A primitive without COLOR_0 or TEXCOORD_1 arrays gets a variant that reads the constants
+// (white, (0, 0)) instead of interpolating them (mesh_feature::kVertexExtras): one material
+// drawn on a primitive with vertex colours and on one without links two variants, and each
+// shows what it should (unlit: the colour is the base colour times the vertex colour).
+TEST(MeshVariants, APrimitiveWithoutVertexColoursReadsWhiteFromItsOwnVariant)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize); // for its GL context
+    (void)renderer;
+    GltfMaterial unlit;
+    unlit.unlit = true;
+    GltfModel model = test::cameraFacingRectangle(-0.3f, -0.2f, -0.02f, 0.2f, unlit);
+    model.primitives[0].colors.assign(4, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    model.primitives.push_back(test::cameraFacingRectangle(0.02f, -0.2f, 0.3f, 0.2f, unlit).primitives[0]);
+    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    std::vector<GpuModel> gpu;
+    gpu.push_back(uploadModel(model, defaults));
+    IblPipeline pipeline;
+    IblMaps maps = pipeline.createMaps();
+    const std::vector<const IblMaps*> lighting = {&maps};
+
+    GlTexture colour = GlTexture::create();
+    glBindTexture(GL_TEXTURE_2D, colour.name());
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
+    GlRenderbuffer depth = GlRenderbuffer::create();
+    glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
+    GlFramebuffer target = GlFramebuffer::create();
+    glBindFramebuffer(GL_FRAMEBUFFER, target.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
+    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    glViewport(0, 0, kSize, kSize);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
+    FrameUniforms frame;
+    frame.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, kSize, kSize));
+    frame.frameParams = glm::vec4(1.0f, 0.0f, pipeline.rgbm() ? 1.0f : 0.0f, 1.0f);
+    MeshPass meshes;
+    const DrawItem items[] = {{0, test::translation(0.0, 0.0, 1.0)}};
+    meshes.draw(frame, gpu, items, lighting, -1, MeshPass::Phantoms::Shaded, MeshPass::Detail::Full, 0.0);
+    // x = 15.5 + 40 x / z: the coloured rectangle's middle at column 9, the other's at 22.
+    uint8_t left[4] = {}, right[4] = {};
+    glReadPixels(9, kSize / 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, left);
+    glReadPixels(22, kSize / 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, right);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    EXPECT_EQ(glm::ivec3(left[0], left[1], left[2]), glm::ivec3(255, 0, 0));
+    EXPECT_EQ(glm::ivec3(right[0], right[1], right[2]), glm::ivec3(255, 255, 255));
+    EXPECT_EQ(meshes.linkedVariants(), 2U);
+}
+
 // The renderer releases the GLSL compiler after each frame (Mesa frees its built-in
 // functions): a model loaded later whose material needs a variant not linked yet (a reload
 // that adds it) still gets it compiled, and draws as it should.

@@ -483,6 +483,62 @@ TEST(Shadows, OnlyTheDiffuseTermIsShadowed)
     EXPECT_LT(diffuse.y, diffuse.x - 10);
 }
 
+// mesh.vert interpolates the shadow map coordinates and the normal offset's share per unit of
+// normal (the light's projection is affine), where mesh.frag computed them per pixel; normal-
+// mapped materials keep the per-pixel path. A normal map that turns nothing (scale 1e-6) thus
+// shades by the per-pixel coordinates, and the frame must be the same within 1 code value.
+// The scene: a white sphere in another's shadow (the penumbra crosses its curved surface,
+// where the interpolated normal is shorter than 1) above a double-sided white quad seen from
+// behind, lit on that side (the normal offset turns round with the normal on back faces, or
+// the quad shadows itself).
+TEST(Shadows, InterpolatedShadowCoordinatesShadeAsThePixelsOwn)
+{
+    const auto whiteDiffuse = [](GltfModel model, bool normalMapped) {
+        GltfMaterial& material = model.materials[0];
+        material.baseColorFactor = glm::vec4(1.0f);
+        material.metallicFactor = 0.0f;
+        material.roughnessFactor = 1.0f;
+        material.doubleSided = true;
+        if (normalMapped) {
+            GltfTexture flat{Image8(4, 4, 4), false};
+            for (size_t i = 0; i < flat.image.data.size(); i += 4) {
+                flat.image.data[i] = 128;
+                flat.image.data[i + 1] = 128;
+                flat.image.data[i + 2] = 255;
+                flat.image.data[i + 3] = 255;
+            }
+            model.textures.push_back(flat);
+            material.normalTexture = int(model.textures.size()) - 1;
+            material.normalScale = 1e-6f;
+        }
+        return model;
+    };
+    // Facing -z (away from the camera above it): its back face is seen and lit.
+    const GltfModel quad = test::makeQuad({glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(0.5f, 0.5f, 0.0f),
+                                           glm::vec3(0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, -0.5f, 0.0f)},
+                                          GltfMaterial{});
+    const glm::dvec3 towardsLight = worldDirection(50.0, 20.0);
+    Image8 images[2];
+    for (int normalMapped = 0; normalMapped < 2; ++normalMapped) {
+        LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+        prepare(renderer, 0.5f);
+        renderer.setLight(light(towardsLight, 1.5f));
+        const ModelId sphere = renderer.addModel(whiteDiffuse(makeUvSphere(48, 24), normalMapped != 0));
+        const ModelId ground = renderer.addModel(whiteDiffuse(quad, normalMapped != 0));
+        const glm::dvec3 centre(0.0, 0.0, 0.12);
+        const DrawItem items[] = {{ground, placed({0.0, 0.0, 0.0}, {0.6, 0.6, 1.0}), -1},
+                                  {sphere, placed(centre, glm::dvec3(0.2)), -1},
+                                  {sphere, placed(centre + 0.3 * towardsLight, glm::dvec3(0.15)), -1}};
+        images[normalMapped] = renderOverGrey(renderer, items);
+    }
+    // The shadows are in view: the lower sphere's on the quad (an ellipse about the point below
+    // its centre along the light, 0.13 m long away from the light), 7 cm beyond the sphere's rim.
+    const glm::dvec3 below = glm::dvec3(0.0, 0.0, 0.12) - (0.12 / towardsLight.z) * towardsLight;
+    const glm::dvec3 onQuad = below - 0.07 * glm::normalize(glm::dvec3(towardsLight.x, towardsLight.y, 0.0));
+    EXPECT_LT(code(images[0], pixelOf(onQuad)), code(images[0], pixelOf({-0.25, -0.25, 0.0})) - 20);
+    EXPECT_LE(test::maxCodeDifference(images[0], images[1]), 1);
+}
+
 // Convex objects cannot shadow themselves where they face the light: a sphere alone, and the
 // ground around a floating box outside its shadow, look as with shadows off (no acne).
 TEST(Shadows, NoShadowAcneOnAConvexObject)
