@@ -147,7 +147,10 @@ TEST(MeshVariantDefines, FixEveryFeatureOnce)
     size_t lines = 0;
     for (const char c : defines)
         lines += c == '\n' ? 1 : 0;
-    EXPECT_EQ(lines, 16U); // fifteen features and the alpha mode
+    EXPECT_EQ(lines, 17U); // sixteen features and the alpha mode
+    EXPECT_NE(defines.find("#define HAS_VERTEX_EXTRAS false\n"), std::string::npos) << defines;
+    EXPECT_NE(meshVariantDefines(mesh_feature::kVertexExtras).find("#define HAS_VERTEX_EXTRAS true\n"),
+              std::string::npos);
     // The output's encoding is left to the uniform: the frame and the cube faces share a
     // variant (mesh_features.h).
     EXPECT_EQ(defines.find("WRITES_RADIANCE"), std::string::npos) << defines;
