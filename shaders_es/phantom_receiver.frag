@@ -15,6 +15,14 @@
 // is unchanged.
 precision highp float;
 precision highp sampler2D;
+
+// ShadowPass links a variant without the shadow map's lookups (RECEIVER_SHADOW 0) for the
+// places no caster's prism along the light reaches, where every lookup would find the light
+// unblocked (visibility exactly 1); uOccluder* there hold only the occluders whose reach
+// touches the place drawn.
+#ifndef RECEIVER_SHADOW
+#define RECEIVER_SHADOW 1
+#endif
 precision highp sampler2DShadow;
 
 layout(std140) uniform Frame {
@@ -111,8 +119,12 @@ void main()
     if (!gl_FrontFacing)
         n = -n;
     float nl = lightIrradiance.w > 0.5 ? dot(n, lightDirection.xyz) : 0.0;
+#if RECEIVER_SHADOW
     vec4 shadowAt = shadowCoordinates(vPosition, n);
     float corners = nl > 0.0 && lightDirection.w > 0.5 && shadowAt.w > 0.5 ? shadowCorners(shadowAt) : 4.0;
+#else
+    float corners = 4.0;
+#endif
     // The cheap tests first, and a discard at the top level of main: llvmpipe runs both sides
     // of every branch (uniform ones too), but stops shading a block of pixels once a discard
     // has killed all of them. Most of a table is neither in a shadow nor near an object, and
@@ -120,7 +132,11 @@ void main()
     if (corners >= 3.999 && !nearAnOccluder(vPosition))
         discard;
     float open = openness(vPosition, n);
+#if RECEIVER_SHADOW
     float visibility = shadowVisibilityWithCorners(shadowAt, corners);
+#else
+    float visibility = 1.0;
+#endif
     if (open == 1.0 && visibility == 1.0)
         discard;
     vec3 environment = kPi * decodeMapTexel(textureLod(uDiffuseMap, cubeAtlasUv(environmentFromCamera * n, cubeAtlasSize(uDiffuseMap), 0.0), 0.0),

@@ -9,6 +9,7 @@
 // (phantom_receiver.frag).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -20,6 +21,7 @@
 #include "gles_renderer/scene/gpu_model.h"
 #include "gles_renderer/scene/pixel_rects.h"
 #include "gles_renderer/scene/scene_renderer.h"
+#include "gles_renderer/scene/tile_cover.h"
 #include "gles_renderer/scene/uniform_blocks.h"
 
 namespace lumar {
@@ -57,7 +59,9 @@ public:
     [[nodiscard]] GLuint map() const { return map_.name(); }
 
     // Into the bound framebuffer (the frame, its viewport set), over the camera image: the
-    // phantoms' depth, and the darkening of the phantoms and then of the receiver-only items
+    // phantoms' depth, only where a later pass reads it (where the virtual objects' boxes are
+    // seen and where the darkening is applied: a pass that draws elsewhere against the
+    // phantoms must widen depthRects), and the darkening of the phantoms and then of the receiver-only items
     // (where no phantom is in front), item i with maps[i]'s diffuse map as its real
     // irradiance. The darkening is shaded at 1 / ShadowOptions::receiverScale of the frame's resolution (see
     // RatioBuffer) and multiplied into the frame. `frame` must have been filled by fillView
@@ -143,13 +147,15 @@ private:
     // Draws the map from fit_ and drawnCasters_: whole, or (`part` not null) only the texels of
     // `part`, cleared and drawn again from the casters that reach into it.
     void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items, const PixelRect* part) const;
-    // Sets the receiver program's occluders (and reachSpheres_).
+    // Works out this frame's occluders (occluders_, reachBoxes_).
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
-    // Where in the viewport the receivers can be darkened, as disjoint rectangles: the tiles
-    // (tile_cover.h) that the parts of each receiver inside a caster's prism along the light,
-    // or within reach of an occluder, touch (all of it without ShadowOptions::cullReceivers).
-    [[nodiscard]] std::vector<PixelRect> darkenedRects(const FrameUniforms& frame, const std::vector<GpuModel>& models,
-                                                       std::span<const DrawItem> items) const;
+    // Where in the viewport the receivers can be darkened: the tiles (tile_cover.h) that the
+    // parts of each receiver inside a caster's prism along the light, or within reach of an
+    // occluder, touch (all of it without ShadowOptions::cullReceivers), each labelled with
+    // what reaches it: bit i occluder i (occluders_), kShadowLabel a prism.
+    [[nodiscard]] TileCover darkenedCover(const FrameUniforms& frame, const std::vector<GpuModel>& models,
+                                          std::span<const DrawItem> items) const;
+    static constexpr uint32_t kShadowLabel = 1u << 16;
 
     ShadowOptions options_;
     int size_;
@@ -184,13 +190,34 @@ private:
         GLint cameraFromMesh = -1;
     };
     CutoutProgram cutoutPrograms_[2];
-    GlProgram receiverProgram_;
-    GLint cameraFromMeshLocation_ = -1;
-    GLint normalFromMeshLocation_ = -1;
-    GLint occluderCountLocation_ = -1;
-    GLint unitFromCameraLocation_ = -1;
-    GLint unitNormalFromCameraLocation_ = -1;
-    GLint occluderReachLocation_ = -1;
+    // phantom_receiver.frag: [1] with the shadow map's lookups, for the tiles a prism
+    // reaches; [0] without them (RECEIVER_SHADOW 0), for those only occluders reach, where
+    // the lookups would all find the light unblocked. (llvmpipe runs every lookup and every
+    // occluder's term for every pixel: a block takes all branches any of its pixels takes.)
+    struct DarkeningProgram {
+        GlProgram program;
+        GLint cameraFromMesh = -1;
+        GLint normalFromMesh = -1;
+        GLint occluderCount = -1;
+        GLint unitFromCamera = -1;
+        GLint unitNormalFromCamera = -1;
+        GLint occluderReach = -1;
+    };
+    DarkeningProgram darkeningPrograms_[2];
+    // Sets the darkening program's (in use) occluders to those of occluders_ that `label`
+    // names, in their order: the others' terms are exactly 1 in its tiles.
+    void useOccluders(const DarkeningProgram& program, uint32_t label) const;
+    // phantom_receiver.frag's kMaxOccluders: objects beyond it darken no contact (the first
+    // ones in draw order are kept). At most 16: kShadowLabel is the next bit.
+    static constexpr int kMaxOccluders = 16;
+    // This frame's occluders, as phantom_receiver.frag takes them (setOccluders).
+    struct Occluders {
+        int count = 0;
+        std::array<glm::mat4, kMaxOccluders> unitFromCamera{};
+        std::array<glm::mat3, kMaxOccluders> unitNormalFromCamera{};
+        std::array<glm::vec4, kMaxOccluders> reach{};
+    };
+    Occluders occluders_;
     GlProgram receiverDepthProgram_;
     GLint receiverDepthCameraFromMeshLocation_ = -1;
     GLint receiverDepthNormalFromMeshLocation_ = -1;

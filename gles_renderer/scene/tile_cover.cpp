@@ -13,28 +13,30 @@ TileCover::TileCover(int width, int height, int tile)
 {
 }
 
-void TileCover::addAll()
+void TileCover::addAll(uint32_t label)
 {
-    std::fill(cells_.begin(), cells_.end(), 1);
+    for (uint32_t& cell : cells_)
+        cell |= label;
 }
 
-void TileCover::markRow(int row, double x0, double x1)
+void TileCover::markRow(int row, double x0, double x1, uint32_t label)
 {
     if (!(x1 >= 0.0 && x0 < double(width_)))
         return;
     const int first = std::clamp(int(std::floor(x0 / tile_)), 0, columns_ - 1);
     const int last = std::clamp(int(std::floor(x1 / tile_)), 0, columns_ - 1);
-    std::fill(cells_.begin() + row * columns_ + first, cells_.begin() + row * columns_ + last + 1, 1);
+    for (int column = first; column <= last; ++column)
+        cells_[size_t(row * columns_ + column)] |= label;
 }
 
-void TileCover::addConvex(std::span<const glm::dvec2> polygon, double margin)
+void TileCover::addConvex(std::span<const glm::dvec2> polygon, double margin, uint32_t label)
 {
     if (polygon.empty())
         return;
     double yLow = std::numeric_limits<double>::infinity(), yHigh = -yLow;
     for (const glm::dvec2& p : polygon) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
-            addAll();
+            addAll(label);
             return;
         }
         yLow = std::min(yLow, p.y);
@@ -64,18 +66,18 @@ void TileCover::addConvex(std::span<const glm::dvec2> polygon, double margin)
                 }
         }
         if (xLow <= xHigh)
-            markRow(row, xLow - margin, xHigh + margin);
+            markRow(row, xLow - margin, xHigh + margin, label);
     }
 }
 
-std::vector<PixelRect> TileCover::rects() const
+template <typename Selected> std::vector<PixelRect> TileCover::rectsOf(const Selected& selected) const
 {
     RowRunMerger merger;
     for (int row = 0; row < rows_; ++row) {
         const int y0 = row * tile_, y1 = std::min((row + 1) * tile_, height_);
         std::vector<PixelRect> runs;
         for (int column = 0; column < columns_; ++column) {
-            if (!marked(column, row))
+            if (!selected(label(column, row)))
                 continue;
             const int x0 = column * tile_, x1 = std::min((column + 1) * tile_, width_);
             if (!runs.empty() && runs.back().x1 == x0)
@@ -86,6 +88,41 @@ std::vector<PixelRect> TileCover::rects() const
         merger.addRow(std::move(runs));
     }
     return std::move(merger).finish();
+}
+
+std::vector<PixelRect> TileCover::rects() const
+{
+    return rectsOf([](uint32_t label) { return label != 0; });
+}
+
+void TileCover::mergeLabels(int blocks)
+{
+    blocks = std::max(blocks, 1);
+    for (int row0 = 0; row0 < rows_; row0 += blocks)
+        for (int column0 = 0; column0 < columns_; column0 += blocks) {
+            const int row1 = std::min(row0 + blocks, rows_), column1 = std::min(column0 + blocks, columns_);
+            uint32_t merged = 0;
+            for (int row = row0; row < row1; ++row)
+                for (int column = column0; column < column1; ++column)
+                    merged |= label(column, row);
+            for (int row = row0; row < row1; ++row)
+                for (int column = column0; column < column1; ++column)
+                    if (uint32_t& cell = cells_[size_t(row * columns_ + column)]; cell != 0)
+                        cell = merged;
+        }
+}
+
+std::vector<TileCover::LabelledRect> TileCover::labelledRects() const
+{
+    std::vector<uint32_t> labels(cells_);
+    std::sort(labels.begin(), labels.end());
+    labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+    std::vector<LabelledRect> result;
+    for (const uint32_t label : labels)
+        if (label != 0)
+            for (const PixelRect& rect : rectsOf([label](uint32_t l) { return l == label; }))
+                result.push_back({rect, label});
+    return result;
 }
 
 } // namespace lumar

@@ -114,5 +114,56 @@ TEST(TileCover, APolygonOutsideTheViewportMarksNothing)
     EXPECT_TRUE(cover.rects().empty());
 }
 
+// Labels (ShadowPass shades each tile with only what reaches it): each tile carries the union
+// of the labels of the polygons that marked it; labelledRects covers exactly the marked
+// tiles, disjointly, each rectangle's tiles all of its label, grouped by label; mergeLabels
+// gives every marked tile of a block the union of the block's labels and marks no new tile.
+TEST(TileCover, LabelledRectanglesCarryTheUnionOfTheirTilesLabels)
+{
+    constexpr int width = 150, height = 90, tile = 10;
+    TileCover cover(width, height, tile);
+    const std::vector<glm::dvec2> a = {{5.0, 5.0}, {70.0, 5.0}, {70.0, 50.0}, {5.0, 50.0}};
+    const std::vector<glm::dvec2> b = {{40.0, 30.0}, {120.0, 30.0}, {120.0, 80.0}, {40.0, 80.0}};
+    const std::vector<glm::dvec2> c = {{130.0, 2.0}, {140.0, 2.0}, {135.0, 12.0}};
+    cover.addConvex(a, 0.0, 1u);
+    cover.addConvex(b, 0.0, 2u);
+    cover.addConvex(c, 0.0, 1u << 16);
+    EXPECT_EQ(cover.label(0, 0), 1u);
+    EXPECT_EQ(cover.label(5, 4), 3u); // (55, 45): both rectangles
+    EXPECT_EQ(cover.label(10, 7), 2u);
+    EXPECT_EQ(cover.label(13, 0), 1u << 16);
+    EXPECT_EQ(cover.label(14, 8), 0u);
+    const auto check = [&](const TileCover& labelled) {
+        std::vector<int> count(size_t(width * height), 0);
+        uint32_t previous = 0;
+        for (const auto& [r, label] : labelled.labelledRects()) {
+            ASSERT_FALSE(r.empty());
+            EXPECT_GE(label, previous) << "grouped by label";
+            previous = label;
+            for (int y = r.y0; y < r.y1; ++y)
+                for (int x = r.x0; x < r.x1; ++x) {
+                    ++count[size_t(y * width + x)];
+                    ASSERT_EQ(labelled.label(x / tile, y / tile), label) << x << "," << y;
+                }
+        }
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                ASSERT_EQ(count[size_t(y * width + x)], labelled.marked(x / tile, y / tile) ? 1 : 0) << x << "," << y;
+    };
+    check(cover);
+    TileCover merged = cover;
+    merged.mergeLabels(4);
+    check(merged);
+    for (int row = 0; row < cover.rows(); ++row)
+        for (int column = 0; column < cover.columns(); ++column) {
+            uint32_t block = 0;
+            for (int r = row / 4 * 4; r < std::min(row / 4 * 4 + 4, cover.rows()); ++r)
+                for (int k = column / 4 * 4; k < std::min(column / 4 * 4 + 4, cover.columns()); ++k)
+                    block |= cover.label(k, r);
+            EXPECT_EQ(merged.label(column, row), cover.marked(column, row) ? block : 0u) << column << "," << row;
+        }
+    EXPECT_EQ(merged.rects().size(), cover.rects().size()) << "the same tiles";
+}
+
 } // namespace
 } // namespace lumar
