@@ -217,6 +217,32 @@ TEST(EnvironmentProbes, PoliciesUpdateTheMapsTheyPromise)
     }
 }
 
+// Neighbours are drawn only into the faces their bounding box reaches (EnvironmentProbes'
+// per-face culling): a long bar lying along +x of a small cube's centre shows in the cube's
+// +X face alone, where a bounding sphere (the bar's is as wide as it is long) reached into
+// four more. Every face it is drawn into costs all its vertices; the culling must keep the
+// one face that shows it.
+TEST(EnvironmentProbes, NeighboursAreDrawnOnlyIntoTheFacesTheirBoxReaches)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight);
+    renderer.setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
+    const ModelId cube = renderer.addModel(makeCube());
+    const ModelId bar = renderer.addModel(redLamp());
+    // The bar from 0.05 to 0.45 m along +x of the cube, 1 cm thick.
+    const std::vector<DrawItem> items{
+        {cube, placed(0.0, 0.0, 0.5, 0.02), 0},
+        {bar, test::translation(0.25, 0.0, 0.5) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.4, 0.01, 0.01)), 1}};
+    for (int frame = 0; frame < 2; ++frame)
+        renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), items);
+    // Per map, the other object is drawn into one face of six: five culled each.
+    EXPECT_EQ(renderer.lastStats().facesCulled, 10);
+    ASSERT_NE(renderer.objectMaps(0), nullptr);
+    const CubeMapF cubeSees = test::readMirrorMap(*renderer.objectMaps(0), IblSettings().mirrorSize);
+    EXPECT_GT(maxOf(cubeSees.faces[0]).r, 2.5f) << "the bar is in the +X face";
+    for (int face = 1; face < kCubeFaces; ++face)
+        EXPECT_NEAR(maxOf(cubeSees.faces[size_t(face)]).r, 0.2f, 0.01f) << "face " << face;
+}
+
 // OnChange follows the scene, not the camera: turning the camera (and with it the
 // environment's rotation) around still objects changes nothing in their maps; moving one
 // object re-renders both maps.
