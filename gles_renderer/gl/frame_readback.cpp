@@ -1,5 +1,7 @@
 #include "gles_renderer/gl/frame_readback.h"
 
+#include <algorithm>
+
 #include "core/log.h"
 #include "gles_renderer/gl/gl_check.h"
 
@@ -14,7 +16,7 @@ FrameReadback::FrameReadback(GLuint framebuffer, int width, int height)
     glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
     readsRgbDirectly_ = format == GL_RGB && type == GL_UNSIGNED_BYTE;
     if (!readsRgbDirectly_)
-        rgba_.resize(size_t(width_) * size_t(height_) * 4);
+        rgba_.resize(size_t(width_) * size_t(std::min(height_, kReadbackRowsPerRead)) * 4);
     LUMAR_LOG(Render, Debug) << "readback as " << (readsRgbDirectly_ ? "RGB" : "RGBA, repacked to RGB");
     checkGlError("setting up frame readback");
 }
@@ -27,14 +29,18 @@ void FrameReadback::read(Image8& rgb)
     if (readsRgbDirectly_) {
         glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data.data());
     } else {
-        glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
-        const size_t pixels = size_t(width_) * size_t(height_);
-        const uint8_t* in = rgba_.data();
+        // The first read waits for the frame; the later strips read the finished one.
         uint8_t* out = rgb.data.data();
-        for (size_t i = 0; i < pixels; ++i, in += 4, out += 3) {
-            out[0] = in[0];
-            out[1] = in[1];
-            out[2] = in[2];
+        for (int y = 0; y < height_; y += kReadbackRowsPerRead) {
+            const int rows = std::min(kReadbackRowsPerRead, height_ - y);
+            glReadPixels(0, y, width_, rows, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+            const size_t pixels = size_t(width_) * size_t(rows);
+            const uint8_t* in = rgba_.data();
+            for (size_t i = 0; i < pixels; ++i, in += 4, out += 3) {
+                out[0] = in[0];
+                out[1] = in[1];
+                out[2] = in[2];
+            }
         }
     }
     checkGlError("reading the frame back");

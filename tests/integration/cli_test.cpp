@@ -199,6 +199,10 @@ TEST(Cli, BenchPrintsItsJsonReport)
     EXPECT_GE(j["peak_rss_mb"].get<double>(), j["rss_mb"].get<double>());
     EXPECT_EQ(j["source"], "live");
     EXPECT_TRUE(j["replay"].is_null());
+    // Live: nothing replayed to leave out; the heap's figures are there.
+    EXPECT_DOUBLE_EQ(j["peak_rss_less_replay_mb"].get<double>(), j["peak_rss_mb"].get<double>());
+    EXPECT_GT(j["heap"]["in_use_mb"].get<double>(), 0.0);
+    EXPECT_GE(j["heap"]["free_mb"].get<double>(), 0.0);
     // Capture to readback: each frame's latency covers at least its own render.
     ASSERT_TRUE(j["latency_ms"].is_object()) << r.out;
     EXPECT_GT(j["latency_ms"]["p50"].get<double>(), 0.0);
@@ -218,6 +222,9 @@ TEST(Cli, BenchReplaysFramesFromMemory)
     EXPECT_EQ(j["camera"], "fake");
     EXPECT_EQ(j["replay"]["frames"], 2);
     EXPECT_GT(j["replay"]["mb"].get<double>(), 0.0);
+    // The device's figure leaves the replayed frames out (rounding to 0.1 MB aside).
+    EXPECT_NEAR(j["peak_rss_less_replay_mb"].get<double>(),
+                j["peak_rss_mb"].get<double>() - j["replay"]["mb"].get<double>(), 0.11);
     EXPECT_EQ(j["frames"], 4);
     ASSERT_TRUE(j["latency_ms"].is_object()) << r.out;
     EXPECT_GT(j["latency_ms"]["p50"].get<double>(), 0.0);
