@@ -33,6 +33,8 @@ constexpr GLuint kLobeSamplesBinding = 2;
 constexpr int kMaxLobeSamples = 1024;
 // A glossy lobe is integrated where cos^n exceeds this fraction of its peak.
 constexpr float kLobeCutoff = 0.01f;
+// The SH sums' fragments each add up kShGroups coefficients (sh_project.glsl's outputs).
+constexpr int kShGroups = 3;
 // shaders_es/rgbm.glsl's range.
 constexpr float kRgbmRange = 16.0f;
 
@@ -217,6 +219,7 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     glSamplerParameteri(nearestLevelWrapped_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 
     plainFramebuffer_ = GlFramebuffer::create();
+    partialSumsFramebuffer_ = GlFramebuffer::create();
     readFramebuffer_ = GlFramebuffer::create();
 
     // Every map is its own atlas (cube_atlas.glsl), drawn through these two framebuffers:
@@ -232,7 +235,20 @@ void IblPipeline::reserveSlots(int slots) const
     if (slots <= reservedSlots_)
         return;
     reservedSlots_ = slots;
-    partialSums_ = makeFloatTexture(settings_.shRows * slots, 9, nullptr, sumFormat_);
+    // kShGroups layers of (rows x slots) x kShGroups texels: layer c of row g holds
+    // coefficient g x kShGroups + c, each layer a colour attachment of the sums' framebuffer.
+    partialSums_ = GlTexture::create();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, partialSums_.name());
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, sumFormat_, settings_.shRows * slots, kShGroups, kShGroups);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, partialSumsFramebuffer_.name());
+    GLenum drawBuffers[kShGroups];
+    for (int c = 0; c < kShGroups; ++c) {
+        drawBuffers[c] = GLenum(GL_COLOR_ATTACHMENT0 + c);
+        glFramebufferTextureLayer(GL_FRAMEBUFFER, drawBuffers[c], partialSums_.name(), 0, c);
+    }
+    glDrawBuffers(kShGroups, drawBuffers);
     // One depth buffer the size of the largest bank, shared by every mirror pass (a smaller
     // colour attachment limits the area drawn).
     mirrorAtlasDepth_ = GlRenderbuffer::create();
@@ -414,30 +430,32 @@ void IblPipeline::renderFaces(GLuint atlas, int size, std::span<const int> slots
 void IblPipeline::sumSamples(GLuint program, GLuint sampler, GLuint coefficients, std::span<const int> slots,
                              const std::function<void(int slot)>& perSlot) const
 {
-    glBindFramebuffer(GL_FRAMEBUFFER, plainFramebuffer_.name());
+    glBindFramebuffer(GL_FRAMEBUFFER, partialSumsFramebuffer_.name());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
 
-    // Pass 1: partial sums, one fragment per (row of samples, coefficient), slot k's rows
-    // from column k x rows.
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, partialSums_.name(), 0);
+    // Pass 1: partial sums, one fragment per (row of samples, group of kShGroups coefficients)
+    // writing one coefficient to each attachment, slot k's rows from column k x rows: a
+    // sample's radiance is fetched once per group, not once per coefficient (the fetch, not
+    // the basis polynomial, is what costs llvmpipe).
     glUseProgram(program);
     bindTextureUnit(kSamplesUnit, GL_TEXTURE_2D, shSamples_.name());
     glBindSampler(GLuint(kSourceUnit), sampler);
     glEnable(GL_SCISSOR_TEST);
     for (const int slot : slots) {
-        glViewport(slot * settings_.shRows, 0, settings_.shRows, 9);
-        glScissor(slot * settings_.shRows, 0, settings_.shRows, 9);
+        glViewport(slot * settings_.shRows, 0, settings_.shRows, kShGroups);
+        glScissor(slot * settings_.shRows, 0, settings_.shRows, kShGroups);
         perSlot(slot);
         drawFullscreenTriangle();
     }
     glBindSampler(GLuint(kSourceUnit), 0);
 
     // Pass 2: the sums of each slot's rows, fragment (k, j) into column k of the coefficients.
+    glBindFramebuffer(GL_FRAMEBUFFER, plainFramebuffer_.name());
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, coefficients, 0);
     glUseProgram(shReduce_.name());
-    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, partialSums_.name());
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D_ARRAY, partialSums_.name());
     for (const int slot : slots) {
         glViewport(slot, 0, 1, 9);
         glScissor(slot, 0, 1, 9);

@@ -131,14 +131,15 @@ private:
     GLint shProjectAtlasSize_ = -1, atlasCopyOffset_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
-    mutable GlTexture partialSums_; // RGBA32F (rows x slots) x 9
+    mutable GlTexture partialSums_; // RGBA32F 2D array: 3 layers of (rows x slots) x 3
     mutable int reservedSlots_ = 0;
     Prefilter glossy1_;
     Prefilter glossy2_;
     GlSampler singleLevel_;
     GlSampler nearestLevelWrapped_;
-    GlFramebuffer plainFramebuffer_; // colour only: the SH sums
-    GlFramebuffer readFramebuffer_;  // the mirror atlas, read back (RGBM)
+    GlFramebuffer plainFramebuffer_;       // colour only: the SH coefficients
+    GlFramebuffer partialSumsFramebuffer_; // the partial sums' layers, one attachment each
+    GlFramebuffer readFramebuffer_;        // the mirror atlas, read back (RGBM)
     // Framebuffers the maps' atlases are attached to in turn: the mirror maps' (with a
     // depth buffer shared by all of them) and the derived maps'.
     mutable GlRenderbuffer mirrorAtlasDepth_;
