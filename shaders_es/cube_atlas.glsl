@@ -40,7 +40,16 @@ CubeBankLevel cubeBankLevel(vec2 bankSize, vec2 slot, float lod)
     return l;
 }
 
-vec2 cubeBankLevelUv(vec3 d, CubeBankLevel l)
+// A direction's cube face (its cell) and face coordinates (s, t) in [0, 1], unclamped: the part
+// of a lookup that depends on neither the map nor its level, so a shader that looks one
+// direction up in several maps finds the face once (llvmpipe runs every branch of a shader,
+// so each lookup would pay for it in full).
+struct CubeFaceHit {
+    vec2 cell;
+    vec2 st;
+};
+
+CubeFaceHit cubeFaceHit(vec3 d)
 {
     vec3 a = abs(d);
     bool xMajor = a.x >= a.y && a.x >= a.z;
@@ -51,10 +60,23 @@ vec2 cubeBankLevelUv(vec3 d, CubeBankLevel l)
     // Face f's cell (f % 3, f / 3), f = 0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z.
     vec2 cell = xMajor ? vec2(0.0, 0.0) : (yMajor ? vec2(2.0, 0.0) : vec2(1.0, 1.0));
     cell.x += positive > 0.0 ? 0.0 : 1.0;
-    cell = cell.x > 2.5 ? vec2(0.0, 1.0) : cell;
+    CubeFaceHit hit;
+    hit.cell = cell.x > 2.5 ? vec2(0.0, 1.0) : cell;
     vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
-    vec2 st = clamp(sctc / (2.0 * ma) + 0.5, l.stMin, 1.0 - l.stMin);
-    return cell * l.cellScale + st * l.stScale + l.offset;
+    hit.st = sctc / (2.0 * ma) + 0.5;
+    return hit;
+}
+
+// The atlas coordinates of a face hit at one level of one slot: the clamp, then
+// uv = cell * cellScale + st * stScale + offset.
+vec2 cubeHitUv(CubeFaceHit hit, CubeBankLevel l)
+{
+    return hit.cell * l.cellScale + clamp(hit.st, l.stMin, 1.0 - l.stMin) * l.stScale + l.offset;
+}
+
+vec2 cubeBankLevelUv(vec3 d, CubeBankLevel l)
+{
+    return cubeHitUv(cubeFaceHit(d), l);
 }
 
 // Atlas coordinates of direction d (need not be unit) in slot slot.x of a bank of slot.y

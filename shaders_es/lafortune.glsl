@@ -76,3 +76,14 @@ vec2 glossyBlend(float s)
         return vec2(1.0, (s - 0.25) * 4.0);
     return vec2(2.0, min((s - 0.5) * 2.0, 1.0));
 }
+
+// glossyBlend as weights on the four maps (diffuse, glossy-1, glossy-2, mirror): the two
+// neighbours weigh 1 - t and t, the others 0. Without branches: llvmpipe runs every side of
+// a branch, which made the three pairs six lookups instead of four.
+vec4 glossyWeights(float s)
+{
+    vec2 blend = glossyBlend(s);
+    float low = 1.0 - blend.y;
+    return vec4(blend.x < 0.5 ? low : 0.0, blend.x < 0.5 ? blend.y : (blend.x < 1.5 ? low : 0.0),
+                blend.x < 0.5 ? 0.0 : (blend.x < 1.5 ? blend.y : low), blend.x < 1.5 ? 0.0 : blend.y);
+}

@@ -163,30 +163,28 @@ vec3 encodeSrgb(vec3 c)
 // Radiance of the environment around direction d (environment frame) for glossiness s.
 // Explicit LODs: the maps are small, and implicit derivatives would jump at the borders of
 // the atlas cells (cube_atlas.glsl).
-vec3 mapRadiance(sampler2D map, vec3 d)
+vec3 mapRadiance(sampler2D map, CubeFaceHit hit)
 {
     vec2 slot = vec2(uMapSlot.x, max(uMapSlot.y, 1.0)); // unset: a single set
-    return decodeMapTexel(textureLod(map, cubeBankUv(d, cubeAtlasSize(map), slot, 0.0), 0.0), MAPS_RGBM);
+    return decodeMapTexel(textureLod(map, cubeHitUv(hit, cubeBankLevel(cubeAtlasSize(map), slot, 0.0)), 0.0),
+                          MAPS_RGBM);
 }
 
-// The maps' weights (glossyBlend's two neighbours, the others 0) without branches: llvmpipe
-// runs every side of a branch, which made the three pairs six lookups instead of four.
+// The environment's radiance as glossyWeights(s) on the four maps.
 vec3 environmentRadiance(vec3 d, float s)
 {
-    vec2 blend = glossyBlend(s);
-    vec4 w = vec4(blend.x < 0.5 ? 1.0 - blend.y : 0.0,
-                  blend.x < 0.5 ? blend.y : (blend.x < 1.5 ? 1.0 - blend.y : 0.0),
-                  blend.x < 0.5 ? 0.0 : (blend.x < 1.5 ? blend.y : 1.0 - blend.y), blend.x < 1.5 ? 0.0 : blend.y);
+    vec4 w = glossyWeights(s);
+    CubeFaceHit hit = cubeFaceHit(d); // one face selection for the four lookups
     // The maps below the material's least glossiness weigh 0: left out (in the same order
     // of additions, so the sum is the same).
     vec3 sum = vec3(0.0);
     if (GLOSS_FLOOR < 0.25)
-        sum += w.x * mapRadiance(uDiffuseMap, d);
+        sum += w.x * mapRadiance(uDiffuseMap, hit);
     if (GLOSS_FLOOR < 0.5)
-        sum += w.y * mapRadiance(uGlossy1Map, d);
+        sum += w.y * mapRadiance(uGlossy1Map, hit);
     if (GLOSS_FLOOR < 1.0)
-        sum += w.z * mapRadiance(uGlossy2Map, d);
-    return sum + w.w * mapRadiance(uMirrorMap, d);
+        sum += w.z * mapRadiance(uGlossy2Map, hit);
+    return sum + w.w * mapRadiance(uMirrorMap, hit);
 }
 
 // The uv texture slot `slot` reads: its uv set, transformed (identity without the extension).
@@ -331,7 +329,7 @@ void main()
     // same image, a map lookup and the shadow's taps fewer).
     vec3 diffuse = vec3(0.0);
     if (HAS_DIFFUSE) {
-        vec3 irradiance = mapRadiance(uDiffuseMap, environmentFromCamera * n); // E_env / pi
+        vec3 irradiance = mapRadiance(uDiffuseMap, cubeFaceHit(environmentFromCamera * n)); // E_env / pi
         // Shadows (DESIGN.md §6.5): the dominant light is a share of the environment, E_L =
         // lightIrradiance max(0, n.l); where the shadow map blocks it, that share is taken out:
         // E = max(E_env - (1 - visibility) E_L, floor). Lit, or with no light or no shadow map,

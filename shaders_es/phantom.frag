@@ -63,51 +63,19 @@ const float kDielectricSpecular = 0.04;
 const float kGrazingCosine = 0.1;
 const float kBorder = 0.01;
 
-// A direction's cube face and its face coordinates, found once for all the maps it is looked
-// up in (cube_atlas.glsl's cubeBankLevelUv, split at the part that does not depend on the
-// map's size): llvmpipe runs every branch of a shader, so each lookup pays in full.
-struct CubeFaceHit {
-    vec2 cell;
-    vec2 st; // unclamped, in [0, 1]
-};
-
-CubeFaceHit cubeFaceHit(vec3 d)
-{
-    vec3 a = abs(d);
-    bool xMajor = a.x >= a.y && a.x >= a.z;
-    bool yMajor = !xMajor && a.y >= a.z;
-    float ma = xMajor ? a.x : (yMajor ? a.y : a.z);
-    float positive = xMajor ? d.x : (yMajor ? d.y : d.z);
-    float side = positive > 0.0 ? 1.0 : -1.0;
-    vec2 cell = xMajor ? vec2(0.0, 0.0) : (yMajor ? vec2(2.0, 0.0) : vec2(1.0, 1.0));
-    cell.x += positive > 0.0 ? 0.0 : 1.0;
-    CubeFaceHit hit;
-    hit.cell = cell.x > 2.5 ? vec2(0.0, 1.0) : cell;
-    vec2 sctc = xMajor ? vec2(-side * d.z, -d.y) : (yMajor ? vec2(d.x, side * d.z) : vec2(side * d.x, -d.y));
-    hit.st = sctc / (2.0 * ma) + 0.5;
-    return hit;
-}
-
 // Level 0 of an atlas (one slot) at `hit`, as cubeAtlasUv(d, cubeAtlasSize(map), 0.0) gives it.
 vec3 mapRadiance(sampler2D map, CubeFaceHit hit)
 {
-    CubeBankLevel l = cubeBankLevel(cubeAtlasSize(map), vec2(0.0, 1.0), 0.0);
-    vec2 uv = hit.cell * l.cellScale + clamp(hit.st, l.stMin, 1.0 - l.stMin) * l.stScale + l.offset;
+    vec2 uv = cubeHitUv(hit, cubeBankLevel(cubeAtlasSize(map), vec2(0.0, 1.0), 0.0));
     return decodeMapTexel(textureLod(map, uv, 0.0), frameParams.z > 0.5);
 }
 
-// mesh.frag's blend of the two maps about glossiness s (glossyBlend), as weights on all
-// four maps: four lookups where the branches would run six.
+// mesh.frag's environmentRadiance, from one face hit for the four maps.
 vec3 environmentRadiance(CubeFaceHit hit, float s)
 {
-    vec2 blend = glossyBlend(s);
-    float low = 1.0 - blend.y;
-    float wDiffuse = blend.x < 0.5 ? low : 0.0;
-    float wGlossy1 = blend.x < 0.5 ? blend.y : (blend.x < 1.5 ? low : 0.0);
-    float wGlossy2 = blend.x < 0.5 ? 0.0 : (blend.x < 1.5 ? blend.y : low);
-    float wMirror = blend.x < 1.5 ? 0.0 : blend.y;
-    return wDiffuse * mapRadiance(uDiffuseMap, hit) + wGlossy1 * mapRadiance(uGlossy1Map, hit) +
-           wGlossy2 * mapRadiance(uGlossy2Map, hit) + wMirror * mapRadiance(uMirrorMap, hit);
+    vec4 w = glossyWeights(s);
+    return w.x * mapRadiance(uDiffuseMap, hit) + w.y * mapRadiance(uGlossy1Map, hit) +
+           w.z * mapRadiance(uGlossy2Map, hit) + w.w * mapRadiance(uMirrorMap, hit);
 }
 
 // IEC 61966-2-1 sRGB decoding.
