@@ -33,6 +33,29 @@ GltfModel lamp()
     return model;
 }
 
+// A kSize² RGBA8 frame with a depth buffer, bound for drawing and cleared to black.
+struct FrameTarget {
+    GlTexture colour = GlTexture::create();
+    GlRenderbuffer depth = GlRenderbuffer::create();
+    GlFramebuffer framebuffer = GlFramebuffer::create();
+
+    FrameTarget()
+    {
+        glBindTexture(GL_TEXTURE_2D, colour.name());
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
+        glViewport(0, 0, kSize, kSize);
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+
+    [[nodiscard]] static bool complete() { return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE; }
+};
+
 TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEncoding)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize); // for its GL context
@@ -72,20 +95,8 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
     EXPECT_NEAR(plusX.data[centre + 1], 0.0f, 0.01f);
 
     // The frame: an RGBA8 target, the lamp 0.5 m ahead filling its middle.
-    GlTexture colour = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, colour.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
-    GlRenderbuffer depth = GlRenderbuffer::create();
-    glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
-    GlFramebuffer target = GlFramebuffer::create();
-    glBindFramebuffer(GL_FRAMEBUFFER, target.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
-    glViewport(0, 0, kSize, kSize);
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const FrameTarget target;
+    ASSERT_TRUE(target.complete());
     const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
     FrameUniforms frame;
     frame.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, kSize, kSize));
@@ -123,20 +134,8 @@ TEST(MeshVariants, APrimitiveWithoutVertexColoursReadsWhiteFromItsOwnVariant)
     IblMaps maps = pipeline.createMaps();
     const std::vector<const IblMaps*> lighting = {&maps};
 
-    GlTexture colour = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, colour.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
-    GlRenderbuffer depth = GlRenderbuffer::create();
-    glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
-    GlFramebuffer target = GlFramebuffer::create();
-    glBindFramebuffer(GL_FRAMEBUFFER, target.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
-    glViewport(0, 0, kSize, kSize);
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const FrameTarget target;
+    ASSERT_TRUE(target.complete());
     const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
     FrameUniforms frame;
     frame.clipFromCamera = glm::mat4(clipFromCamera(intrinsics, kSize, kSize));
