@@ -153,6 +153,10 @@ int benchCommand(const BenchCommandOptions& options)
     // The camera the figures are for: live (drawn or decoded while timed) or replayed from memory.
     const std::string source = replay ? "replay" : "live";
     const double replayMegabytes = replay ? double(replay->bytesHeld()) / kMegabyte : 0.0;
+    // Read once each, the peak after the current figure (so the peak is never below it): the
+    // peak and the peak less the replayed frames are then of the same moment.
+    const double residentMb = residentMegabytes();
+    const double peakMegabytes = peakResidentMegabytes();
     const double latencyP50 = percentile(latencyMs, 0.5), latencyP99 = percentile(latencyMs, 0.99);
 
     if (options.json) {
@@ -189,12 +193,12 @@ int benchCommand(const BenchCommandOptions& options)
             // The share of the shadow map drawn per frame (0: kept from the frame before).
             {"shadow_map_drawn_per_frame", jsonDecimals(mean(shadowMapDrawn), 3)},
             {"profiled", profile},
-            {"rss_mb", jsonDecimals(residentMegabytes(), 1)},
-            {"peak_rss_mb", jsonDecimals(peakResidentMegabytes(), 1)},
+            {"rss_mb", jsonDecimals(residentMb, 1)},
+            {"peak_rss_mb", jsonDecimals(peakMegabytes, 1)},
             // What a device with a real camera would hold: the replayed frames are the bench's
             // stand-in for the camera (held from before the first frame to the end, so the
             // peak holds all of them); a camera's own buffers are the driver's.
-            {"peak_rss_less_replay_mb", jsonDecimals(peakResidentMegabytes() - replayMegabytes, 1)},
+            {"peak_rss_less_replay_mb", jsonDecimals(peakMegabytes - replayMegabytes, 1)},
             {"heap", heapFigures()}};
         std::printf("%s\n", jsonLine(summary).c_str());
     } else {
@@ -204,9 +208,9 @@ int benchCommand(const BenchCommandOptions& options)
             std::printf("  replay: %d frames held, %.1f MiB\n", replay->framesHeld(), replayMegabytes);
         if (!latencyMs.empty())
             std::printf("  capture to present: p50 %.2f ms, p99 %.2f ms\n", latencyP50, latencyP99);
-        std::printf("  resident %.0f MiB, peak %.0f MiB", residentMegabytes(), peakResidentMegabytes());
+        std::printf("  resident %.0f MiB, peak %.0f MiB", residentMb, peakMegabytes);
         if (replay)
-            std::printf(" (%.0f MiB less the replayed frames)", peakResidentMegabytes() - replayMegabytes);
+            std::printf(" (%.0f MiB less the replayed frames)", peakMegabytes - replayMegabytes);
         std::printf("\n");
         std::printf("  %-9s %8s %8s %8s\n", "stage", "mean", "p50", "p99");
         const std::pair<const char*, const std::vector<double>*> stages[] = {

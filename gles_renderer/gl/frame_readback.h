@@ -24,7 +24,7 @@ private:
     int height_;
     // GLES guarantees only RGBA reads; RGB is used where the implementation offers it.
     bool readsRgbDirectly_ = false;
-    // Reused staging for RGBA reads, kRowsPerRead rows of it: read and repacked a strip at a
+    // Reused staging for RGBA reads, kReadbackRowsPerRead rows of it: read and repacked a strip at a
     // time, not as a whole frame (3.5 MB at 1280x720 that stayed resident, issue 18).
     std::vector<uint8_t> rgba_;
 };

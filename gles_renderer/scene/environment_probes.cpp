@@ -33,11 +33,7 @@ bool mayBeInFace(const DrawItem& item, const GpuModel& model)
 {
     // Per plane, whether every corner so far lies on its outer side.
     bool behind = true, right = true, left = true, above = true, below = true;
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) != 0 ? model.boundsMax.x : model.boundsMin.x,
-                                (c & 2) != 0 ? model.boundsMax.y : model.boundsMin.y,
-                                (c & 4) != 0 ? model.boundsMax.z : model.boundsMin.z);
-        const glm::dvec3 p = glm::dvec3(item.cameraFromModel * glm::dvec4(corner, 1.0));
+    for (const glm::dvec3& p : boundsCorners(model, item.cameraFromModel)) {
         behind = behind && p.z <= 0.0;
         right = right && p.x > p.z;
         left = left && -p.x > p.z;

@@ -385,6 +385,18 @@ void replaceVertices(const GpuPrimitive& primitive, std::span<const std::byte> i
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform)
+{
+    std::array<glm::dvec3, 8> corners;
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec3 local((i & 1) ? model.boundsMax.x : model.boundsMin.x,
+                               (i & 2) ? model.boundsMax.y : model.boundsMin.y,
+                               (i & 4) ? model.boundsMax.z : model.boundsMin.z);
+        corners[size_t(i)] = glm::dvec3(transform * glm::dvec4(local, 1.0));
+    }
+    return corners;
+}
+
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels)
 {
     // Coarsest first: the first level whose cells are small enough.

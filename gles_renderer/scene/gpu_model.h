@@ -2,6 +2,7 @@
 // material, its textures; everything the mesh pass binds to draw it.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -101,6 +102,11 @@ inline constexpr double kProxyMaxCellPixels = 1.0;
 // view (<= 0 or not finite: unknown, the finest): the coarsest level whose cell spans at
 // most kProxyMaxCellPixels, else the finest.
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels);
+
+// The eight corners of `model`'s bounding box (boundsMin, boundsMax), each mapped by the
+// affine `transform` (e.g. cameraFromModel): corner i takes boundsMax's x, y, z where bits 0,
+// 1, 2 of i are set.
+std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform);
 
 // Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.
 // Textures larger than `textureLimit` (0: no limit) are scaled down to fit on upload.

@@ -49,18 +49,6 @@ constexpr double kCoverMarginTexels = 1.5;
 // blocks of 2 5.3 (59), of 4 5.3 (39), of 8 6.1 (34).
 constexpr int kLabelBlockTiles = 2;
 
-std::array<glm::dvec3, 8> boxCorners(const GpuModel& model, const glm::dmat4& cameraFromModel)
-{
-    std::array<glm::dvec3, 8> corners;
-    for (int i = 0; i < 8; ++i) {
-        const glm::dvec3 local((i & 1) ? model.boundsMax.x : model.boundsMin.x,
-                               (i & 2) ? model.boundsMax.y : model.boundsMin.y,
-                               (i & 4) ? model.boundsMax.z : model.boundsMin.z);
-        corners[size_t(i)] = glm::dvec3(cameraFromModel * glm::dvec4(local, 1.0));
-    }
-    return corners;
-}
-
 bool isCaster(const DrawItem& item)
 {
     return !item.phantom;
@@ -153,7 +141,7 @@ std::vector<PixelRect> depthRects(const glm::dmat4& clipFromCamera, const std::v
         if (item.phantom)
             continue;
         glm::dvec2 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
-        for (const glm::dvec3& corner : boxCorners(models[size_t(item.model)], item.cameraFromModel)) {
+        for (const glm::dvec3& corner : boundsCorners(models[size_t(item.model)], item.cameraFromModel)) {
             const glm::dvec4 clip = clipFromCamera * glm::dvec4(corner, 1.0);
             if (!(clip.w > 1e-6)) {
                 cover.addAll();
@@ -475,7 +463,7 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
     casters.clear();
     for (const DrawItem& item : items) {
         glm::dvec3 itemLow(inf), itemHigh(-inf);
-        for (const glm::dvec3& corner : boxCorners(models[size_t(item.model)], item.cameraFromModel)) {
+        for (const glm::dvec3& corner : boundsCorners(models[size_t(item.model)], item.cameraFromModel)) {
             const glm::dvec3 p(lightViewFromCamera * glm::dvec4(corner, 1.0));
             if (!finite(p))
                 continue;
