@@ -20,7 +20,7 @@ layout(std140) uniform Frame {
     mat4 lightClipFromCamera;
     vec4 lightDirection;  // xyz: towards the light; w: 1 = sample the shadow map
     vec4 lightIrradiance; // rgb: irradiance at normal incidence; w: 1 = a light is set
-    vec4 shadowParams;    // x: PCF radius (texels), y: 1 / map size, z: texel (metres), w: depth bias
+    vec4 shadowParams;    // x: PCF radius (texels), y: 1 / map size, z: normal offset (metres), w: depth bias
 };
 
 #include "material_block.glsl"

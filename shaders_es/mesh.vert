@@ -39,9 +39,6 @@ out vec2 vUv1;
 out vec3 vShadowCentre;
 out vec3 vShadowNormal;
 
-// shadow.glsl's normal offset (shadowCoordinates), in texels.
-const float kShadowNormalOffsetTexels = 1.5;
-
 void main()
 {
     vec4 position = uCameraFromMesh * vec4(aPosition, 1.0);
@@ -53,5 +50,5 @@ void main()
     vUv1 = aUv1;
     gl_Position = clipFromCamera * position;
     vShadowCentre = (lightClipFromCamera * position).xyz * 0.5 + 0.5;
-    vShadowNormal = mat3(lightClipFromCamera) * vNormal * (0.5 * kShadowNormalOffsetTexels * shadowParams.z);
+    vShadowNormal = mat3(lightClipFromCamera) * vNormal * (0.5 * shadowParams.z);
 }

@@ -20,9 +20,9 @@
 // where the map's frustum holds the point (else 0: lit).
 vec4 shadowCoordinates(vec3 position, vec3 normal)
 {
-    // Normal offset (about one and a half texels) on top of the pass's slope-scaled depth
-    // offset: curved and grazing surfaces do not shadow themselves (acne).
-    vec3 p = position + normal * (shadowParams.z * 1.5);
+    // Normal offset (shadowParams.z: about one and a half texels) on top of the pass's
+    // slope-scaled depth offset: curved and grazing surfaces do not shadow themselves (acne).
+    vec3 p = position + normal * shadowParams.z;
     vec3 uvz = (lightClipFromCamera * vec4(p, 1.0)).xyz * 0.5 + 0.5;
     bool inside = all(greaterThanEqual(uvz, vec3(0.0))) && all(lessThanEqual(uvz, vec3(1.0)));
     return vec4(uvz.xy, uvz.z - shadowParams.w, inside ? 1.0 : 0.0);

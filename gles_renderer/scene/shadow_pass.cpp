@@ -35,7 +35,8 @@ constexpr GLfloat kOffsetUnits = 4.0f;
 constexpr double kMarginTexels = 2.0;
 // phantom_receiver.frag's kOcclusionReach: occluders darken within this many radii.
 constexpr double kOcclusionReach = 2.0;
-// shadow.glsl's normal offset: the lookups move a point this many texels along its normal.
+// shadow.glsl's normal offset: the lookups move a point this many texels along its normal
+// (shadowParams.z, in metres, for every shader that looks the map up).
 constexpr double kNormalOffsetTexels = 1.5;
 // The tiles the darkening is culled to (frame pixels; ShadowPass::darkenedRects), and the
 // band around each place a shadow or a contact can fall that they include (buffer texels: the
@@ -654,8 +655,8 @@ void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView
     frame.lightClipFromCamera = glm::mat4(lightClipFromCamera_ * cameraFromView);
     frame.lightDirection = glm::vec4(glm::normalize(viewFromCamera * lightDirection_), mapValid_ ? 1.0f : 0.0f);
     frame.lightIrradiance = glm::vec4(light_.color * light_.intensity, lightSet_ ? 1.0f : 0.0f);
-    frame.shadowParams =
-        glm::vec4(options_.softness, 1.0f / float(size_), float(fit_.texelMetres), float(fit_.depthBias));
+    frame.shadowParams = glm::vec4(options_.softness, 1.0f / float(size_),
+                                   float(kNormalOffsetTexels * fit_.texelMetres), float(fit_.depthBias));
 }
 
 void ShadowPass::setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items)

@@ -34,8 +34,8 @@ struct FrameUniforms {
     glm::vec4 lightDirection{0.0f};
     // rgb: the light's irradiance at normal incidence (colour * intensity); w: 1 = a light is set.
     glm::vec4 lightIrradiance{0.0f};
-    // x: PCF kernel radius (texels), y: 1 / map size, z: a texel's size (metres), w: depth bias
-    // (shadow-map depth units).
+    // x: PCF kernel radius (texels), y: 1 / map size, z: the normal offset (metres: shadow.glsl's
+    // lookups move a point this far along its normal), w: depth bias (shadow-map depth units).
     glm::vec4 shadowParams{0.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);
