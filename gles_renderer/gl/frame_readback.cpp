@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/log.h"
+#include "core/pixel_pack.h"
 #include "gles_renderer/gl/gl_check.h"
 
 namespace lumar {
@@ -35,12 +36,8 @@ void FrameReadback::read(Image8& rgb)
             const int rows = std::min(kReadbackRowsPerRead, height_ - y);
             glReadPixels(0, y, width_, rows, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
             const size_t pixels = size_t(width_) * size_t(rows);
-            const uint8_t* in = rgba_.data();
-            for (size_t i = 0; i < pixels; ++i, in += 4, out += 3) {
-                out[0] = in[0];
-                out[1] = in[1];
-                out[2] = in[2];
-            }
+            packRgbaToRgb(rgba_.data(), out, pixels);
+            out += pixels * 3;
         }
     }
     checkGlError("reading the frame back");

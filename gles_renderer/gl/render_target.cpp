@@ -47,7 +47,7 @@ RenderTarget::RenderTarget(int width, int height, int samples) : width_(width), 
     } else {
         colourTexture_ = GlTexture::create();
         glBindTexture(GL_TEXTURE_2D, colourTexture_.name());
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB8, width, height);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, width, height);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colourTexture_.name(), 0);
     }
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.name());

@@ -1,5 +1,5 @@
 // The offscreen framebuffer the scene is drawn into: 8-bit colour + 24-bit depth. Single-
-// sampled, the colour is an RGB8 texture the camera image can be uploaded into directly;
+// sampled, the colour is an RGBA8 texture the camera image can be uploaded into directly;
 // multisampled, RGBA8 renderbuffers resolved by a blit into a single-sampled one for readback.
 #pragma once
 
@@ -26,7 +26,7 @@ public:
     // The framebuffer drawn into (multisampled where the target is), for passes that attach
     // more images to it (gles_renderer/scene/lens_effects.h).
     [[nodiscard]] GLuint drawFramebuffer() const { return drawFramebuffer_.name(); }
-    // The RGB8 colour texture drawn into, or 0 when multisampled.
+    // The RGBA8 colour texture drawn into, or 0 when multisampled.
     [[nodiscard]] GLuint colourTexture() const { return colourTexture_.name(); }
 
     [[nodiscard]] int width() const { return width_; }

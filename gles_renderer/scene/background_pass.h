@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "core/image.h"
 #include "core/ycbcr_image.h"
@@ -16,6 +17,9 @@
 #include "gles_renderer/gl/render_target.h"
 
 namespace lumar {
+
+// Rows of the camera image expanded to RGBA and uploaded at a time.
+inline constexpr int kUploadRowsPerStrip = 64;
 
 class EglDisplay;
 
@@ -48,7 +52,7 @@ public:
     [[nodiscard]] uint64_t importedFrames() const { return importedFrames_; }
 
 private:
-    void upload(GLuint texture, const Image8& rgb) const;
+    void upload(GLuint texture, const Image8& rgb);
     void prepareYcbcr(YCbCrLayout layout);
     // Lets go of the camera buffer the last imported frame was drawn from, once the GPU is done.
     void releaseHeldBuffer();
@@ -59,6 +63,9 @@ private:
     // Only for multisampled targets:
     GlProgram program_;
     GlTexture texture_;
+    // RGBA staging for uploads, kUploadRowsPerStrip rows of it (not a whole frame: resident
+    // memory is a target too).
+    std::vector<uint8_t> strip_;
     // The YCbCr path, created on its first frame:
     GlProgram ycbcrProgram_;
     GlTexture lumaTexture_;   // NV12 Y plane, R8
