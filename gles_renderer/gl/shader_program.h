@@ -19,7 +19,7 @@ inline constexpr ProgramSources kBackgroundProgram{"fullscreen.vert", "backgroun
 inline constexpr ProgramSources kBackgroundYcbcrProgram{"fullscreen.vert", "background_ycbcr.frag"};
 inline constexpr ProgramSources kMeshProgram{"mesh.vert", "mesh.frag"};
 inline constexpr ProgramSources kDepthOnlyProgram{"depth_only.vert", "depth_only.frag"};
-inline constexpr ProgramSources kPhantomProgram{"mesh.vert", "phantom.frag"};
+inline constexpr ProgramSources kPhantomProgram{"phantom.vert", "phantom.frag"};
 inline constexpr ProgramSources kSkyboxProgram{"cube_face.vert", "skybox.frag"};
 inline constexpr ProgramSources kShProjectProgram{"fullscreen.vert", "sh_project_cube.frag"};
 inline constexpr ProgramSources kShProjectEquirectProgram{"fullscreen.vert", "sh_project_equirect.frag"};
