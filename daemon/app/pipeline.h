@@ -162,8 +162,12 @@ private:
     // The receiver-only ground under each marker's objects ([shadows] ground; ground_plane.h).
     void placeGrounds(const std::vector<GltfModel>& models);
     void drawSetupOverlay(const FrameReport& report);
-    // Returns the free pages loading left in malloc's heaps to the system.
+    // Returns the free pages loading left in malloc's heaps to the system, and drops the
+    // code only loading ran from the resident set (working_set.h).
     static void releaseLoadingMemory();
+    // Once the first frames have compiled every shader variant: drops the code only start-up
+    // ran (the shader compilers) from the resident set.
+    static void releaseStartupMemory();
     // Seconds of scene time at the current frame, what animations play at: since the first
     // frame's capture timestamp with `realTime` (`lumar run`), else the frame number / fps
     // (`lumar render`, `lumar bench`: the same on every run).
@@ -198,6 +202,7 @@ private:
     ExposureMeter exposureMeter_;
     Frame frame_;
     int64_t previousCapturedNs_ = 0; // the frame presented before frame_ (KMS latency)
+    int framesRendered_ = 0;         // up to kStartupFrames: when releaseStartupMemory runs
     Image8 output_;
     bool overlayOn_ = false;
     std::string overlayStatus_;

@@ -197,6 +197,11 @@ TEST(Cli, BenchPrintsItsJsonReport)
     EXPECT_GT(j["cpu_ms_per_frame"].get<double>(), 0.0);
     EXPECT_GT(j["rss_mb"].get<double>(), 0.0);
     EXPECT_GE(j["peak_rss_mb"].get<double>(), j["rss_mb"].get<double>());
+    // The resident figure split into the process's own memory and mapped files' pages (read a
+    // moment apart: the detection thread may allocate between the reads).
+    EXPECT_GT(j["rss_anon_mb"].get<double>(), 0.0);
+    EXPECT_GT(j["rss_file_mb"].get<double>(), 0.0);
+    EXPECT_NEAR(j["rss_anon_mb"].get<double>() + j["rss_file_mb"].get<double>(), j["rss_mb"].get<double>(), 1.0);
     EXPECT_EQ(j["source"], "live");
     EXPECT_TRUE(j["replay"].is_null());
     // Live: nothing replayed to leave out; the heap's figures are there.
