@@ -341,11 +341,11 @@ void main()
                 // the offset along it is the interpolated one, scaled as normalize() does.
                 float visibility;
                 if (HAS_NORMAL_MAP) {
-                    visibility = shadowVisibilityFiveTaps(vPosition, n);
+                    visibility = shadowVisibilityFourTaps(vPosition, n);
                 } else {
                     float along = (gl_FrontFacing ? 1.0 : -1.0) * inversesqrt(dot(vNormal, vNormal));
                     visibility =
-                        shadowVisibilityFiveTapsAt(shadowCoordinatesInterpolated(vShadowCentre, vShadowNormal * along));
+                        shadowVisibilityFourTapsAt(shadowCoordinatesInterpolated(vShadowCentre, vShadowNormal * along));
                 }
                 if (visibility < 1.0)
                     irradiance = max(irradiance - (1.0 - visibility) * kInversePi * nl * lightIrradiance.rgb,

@@ -68,7 +68,7 @@ uint32_t glossFeatures(const MaterialUniforms& material);
 // makes it 0 whatever the texture), kTangentRotation where its Lafortune tangent rotation
 // factor is not 0, kPhongLobe where the lobe is C = (-1, -1, 1) everywhere (metallic-roughness,
 // or Lafortune without a lobe texture). On llvmpipe, which runs every lookup of a pixel
-// whatever its weight, the car scene's chrome, glass and mirror ball skip the shadow's five
+// whatever its weight, the car scene's chrome, glass and mirror ball skip the shadow's four
 // taps and a map lookup, and every material but the grille its tangent frame.
 uint32_t reflectanceFeatures(const MaterialUniforms& material);
 
