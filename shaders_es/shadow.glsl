@@ -5,14 +5,13 @@
 //
 // PCF: taps spanning +-softness texels, each a bilinear 2 x 2 comparison (GL_LINEAR with
 // GL_COMPARE_REF_TO_TEXTURE), so the penumbra is a smooth ramp about 2 * softness + 1 texels
-// wide. The real surfaces (phantom_receiver.frag) take a 3 x 3 grid, its five inner taps only
-// where the four corners disagree: that shader discards the pixels that no shadow reaches
-// before its other work, and llvmpipe then skips them. The virtual objects (mesh.frag) take
-// the corners and the centre: llvmpipe runs both sides of a branch, so the saving of the
-// corners test never comes, and five taps against nine measured the objects' pass ~10 %
-// cheaper on the car scene; the penumbra differs from nine taps by a few code values along
-// the terminator. (An occluder thinner than the kernel that slips between its taps is
-// missed: below 2 * softness texels.) A point outside the map's frustum is lit: the map
+// wide. The real surfaces (phantom_receiver.frag) take the four corners of a 3 x 3 grid: that
+// shader discards the pixels the corners find all lit (and no contact reaches) before its
+// other work, and llvmpipe then skips them. The virtual objects (mesh.frag) take the corners
+// and the centre: five taps against nine measured the objects' pass ~10 % cheaper on the car
+// scene; the penumbra differs from nine taps by a few code values along the terminator. (An
+// occluder thinner than the kernel that slips between its taps is missed: below 2 * softness
+// texels.) A point outside the map's frustum is lit: the map
 // covers every caster, and a point no caster lies between it and the light cannot be
 // shadowed.
 
@@ -49,22 +48,6 @@ float shadowCorners(vec4 coordinates)
            texture(uShadowMap, vec3(coordinates.xy + vec2(1.0, -1.0) * spacing, coordinates.z)) +
            texture(uShadowMap, vec3(coordinates.xy + vec2(-1.0, 1.0) * spacing, coordinates.z)) +
            texture(uShadowMap, vec3(coordinates.xy + vec2(1.0, 1.0) * spacing, coordinates.z));
-}
-
-// The whole kernel, given its corners.
-float shadowVisibilityWithCorners(vec4 coordinates, float corners)
-{
-    if (corners >= 3.999)
-        return 1.0;
-    if (corners <= 0.001)
-        return 0.0;
-    vec2 spacing = vec2(shadowParams.x * shadowParams.y);
-    float sum = corners;
-    for (int j = -1; j <= 1; ++j)
-        for (int i = -1; i <= 1; ++i)
-            if (i == 0 || j == 0)
-                sum += texture(uShadowMap, vec3(coordinates.xy + vec2(float(i), float(j)) * spacing, coordinates.z));
-    return sum / 9.0;
 }
 
 // The kernel's four corners and its centre: for a shader that cannot skip the rest of the
