@@ -5,15 +5,15 @@
 //
 // PCF: taps spanning +-softness texels, each a bilinear 2 x 2 comparison (GL_LINEAR with
 // GL_COMPARE_REF_TO_TEXTURE), so the penumbra is a smooth ramp about 2 * softness + 1 texels
-// wide. The real surfaces (phantom_receiver.frag) take a 3 x 3 grid, its five inner taps only
-// where the four corners disagree: that shader discards the pixels that no shadow reaches
-// before its other work, and llvmpipe then skips them. The virtual objects (mesh.frag) take
-// the four corners alone: llvmpipe runs both sides of a branch, so the saving of the corners
-// test never comes, and every tap is paid at every pixel (the five taps the objects took until
-// issue 18 were 28 % of their time on the car scene). Four taps have the nine's reach; against
-// the corners and the centre the car frame differs by at most 7 code values on 0.04 % of its
-// pixels, in the penumbrae. (An occluder thinner than the kernel that slips between its taps
-// is missed: below 2 * softness texels.) A point outside the map's frustum is lit: the map
+// wide. Both users take the four corners of a 3 x 3 grid, which have the nine taps' reach:
+// the real surfaces (phantom_receiver.frag) discard the pixels the corners find all lit (and
+// no contact reaches) before their other work, and llvmpipe then skips them; the virtual
+// objects (mesh.frag) pay every tap at every pixel, since llvmpipe runs both sides of a branch
+// (the five taps they took until issue 18 were 28 % of their time on the car scene). Against
+// nine taps, or the corners and the centre, the penumbra differs by a few code values (the car
+// frame: at most 10, on under 1 % of its pixels, all in penumbrae). (An occluder thinner than
+// the kernel that slips between its taps is missed: below 2 * softness texels.) A point
+// outside the map's frustum is lit: the map
 // covers every caster, and a point no caster lies between it and the light cannot be
 // shadowed.
 
@@ -52,25 +52,8 @@ float shadowCorners(vec4 coordinates)
            texture(uShadowMap, vec3(coordinates.xy + vec2(1.0, 1.0) * spacing, coordinates.z));
 }
 
-// The whole kernel, given its corners.
-float shadowVisibilityWithCorners(vec4 coordinates, float corners)
-{
-    if (corners >= 3.999)
-        return 1.0;
-    if (corners <= 0.001)
-        return 0.0;
-    vec2 spacing = vec2(shadowParams.x * shadowParams.y);
-    float sum = corners;
-    for (int j = -1; j <= 1; ++j)
-        for (int i = -1; i <= 1; ++i)
-            if (i == 0 || j == 0)
-                sum += texture(uShadowMap, vec3(coordinates.xy + vec2(float(i), float(j)) * spacing, coordinates.z));
-    return sum / 9.0;
-}
-
-// The kernel's four corners alone: for a shader that cannot skip the rest of the kernel where
-// the corners agree (llvmpipe runs every tap of a branch that any pixel of a block takes:
-// mesh.frag). Their penumbra is the nine taps' wide, in two steps of a half.
+// The kernel's four corners alone, averaged. Their penumbra is the nine taps' wide, in two
+// steps of a half.
 float shadowVisibilityFourTapsAt(vec4 coordinates)
 {
     return coordinates.w < 0.5 ? 1.0 : shadowCorners(coordinates) * 0.25;

@@ -9,8 +9,17 @@
 // table's shadow) instead of bleeding over it by a few texels. Where no texel is its own
 // (a sliver narrower than a texel), the one nearest in distance stands in. A ratio of 1
 // leaves its pixels exactly as the camera saw them.
+//
+// APPLY_WRITES_DEPTH 1: drawn with GL_LESS and depth writes as the phantom's depth pass
+// (ShadowPass::applyCanWriteDepth), so it keeps every pixel (a discard would lose its depth)
+// and writes a ratio of exactly 1 where the darkening is 1: the blend leaves those pixels
+// exactly as they were.
 precision highp float;
 precision highp sampler2D;
+
+#ifndef APPLY_WRITES_DEPTH
+#define APPLY_WRITES_DEPTH 0
+#endif
 
 uniform sampler2D uRatio;      // r: the ratio; gb: the receiver's distance (receiver_distance.glsl)
 uniform float uTexelsPerPixel; // 1 / the frame pixels per texel along x and y
@@ -43,10 +52,12 @@ void main()
     // Before the discard: derivatives need the whole 2 x 2 quad.
     float own = distanceCode(vPosition);
     float slope = abs(dFdx(own)) + abs(dFdy(own));
+#if !APPLY_WRITES_DEPTH
     // Most of a receiver is far from every shadow: a top-level discard lets llvmpipe skip the
     // rest for a whole block of pixels.
     if (min(min(ratios.x, ratios.y), min(ratios.z, ratios.w)) >= 1.0)
         discard;
+#endif
 
     vec4 gaps = abs(vec4(decodeDistance(t00.gb), decodeDistance(t10.gb), decodeDistance(t01.gb),
                          decodeDistance(t11.gb)) - own);
@@ -63,7 +74,11 @@ void main()
         vec4 isNearest = vec4(equal(gaps, vec4(nearest)));
         ratio = dot(isNearest, ratios) / dot(isNearest, vec4(1.0));
     }
+#if APPLY_WRITES_DEPTH
+    ratio = min(ratio, 1.0); // four ratios of 1 give 1 exactly (a sum over itself)
+#else
     if (ratio >= 1.0)
         discard;
+#endif
     fragColor = vec4(vec3(ratio), 1.0);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -49,6 +50,120 @@ constexpr double kCoverMarginTexels = 1.5;
 // of 3 interleaved, the darkening's rasteriser CPU ms: one label 6.3, by tile 5.7 (86 rects),
 // blocks of 2 5.3 (59), of 4 5.3 (39), of 8 6.1 (34).
 constexpr int kLabelBlockTiles = 2;
+
+// The most triangles a phantom may have for the convexity test (applyCanWriteDepth): a box
+// has 12; a finer mesh keeps the two passes rather than pay for the test.
+constexpr GLsizei kMaxConvexTestIndices = 3 * 256;
+
+// The corners of `primitive`'s triangles (mesh space, three a triangle), read back from its
+// GL buffers; empty where they cannot be read, or for more than kMaxConvexTestIndices.
+std::vector<glm::dvec3> readTriangles(const GpuPrimitive& primitive)
+{
+    if (primitive.indexCount <= 0 || primitive.indexCount > kMaxConvexTestIndices || primitive.indexCount % 3 != 0)
+        return {};
+    // Where the position attribute (location 0, phantom_receiver.vert's aPosition) lies.
+    glBindVertexArray(primitive.vertexArray.name());
+    GLint stride = 0, buffer = 0, components = 0, type = 0;
+    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &stride);
+    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &buffer);
+    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_SIZE, &components);
+    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_TYPE, &type);
+    void* pointer = nullptr;
+    glGetVertexAttribPointerv(0, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+    glBindVertexArray(0);
+    if (GLuint(buffer) != primitive.vertices.name() || components != 3 || type != GL_FLOAT)
+        return {};
+    const size_t vertexStride = stride > 0 ? size_t(stride) : 3 * sizeof(float);
+    const size_t offset = reinterpret_cast<uintptr_t>(pointer);
+    const size_t indexSize = primitive.indexType == GL_UNSIGNED_INT     ? 4
+                             : primitive.indexType == GL_UNSIGNED_SHORT ? 2
+                                                                        : 1;
+    // The contents of buffer `name` into `to` (empty where it cannot be mapped), through
+    // GL_COPY_READ_BUFFER: no vertex array's state changes.
+    const auto read = [](GLuint name, std::vector<std::byte>& to) {
+        glBindBuffer(GL_COPY_READ_BUFFER, name);
+        GLint64 size = 0;
+        glGetBufferParameteri64v(GL_COPY_READ_BUFFER, GL_BUFFER_SIZE, &size);
+        to.resize(size_t(std::max<GLint64>(size, 0)));
+        const void* mapped =
+            to.empty() ? nullptr : glMapBufferRange(GL_COPY_READ_BUFFER, 0, GLsizeiptr(size), GL_MAP_READ_BIT);
+        if (mapped) {
+            std::memcpy(to.data(), mapped, to.size());
+            glUnmapBuffer(GL_COPY_READ_BUFFER);
+        } else {
+            to.clear();
+        }
+        glBindBuffer(GL_COPY_READ_BUFFER, 0);
+    };
+    std::vector<std::byte> indexBytes, vertexBytes;
+    read(primitive.indices.name(), indexBytes);
+    read(primitive.vertices.name(), vertexBytes);
+    if (indexBytes.size() < size_t(primitive.indexCount) * indexSize)
+        return {};
+    std::vector<glm::dvec3> corners;
+    corners.reserve(size_t(primitive.indexCount));
+    for (size_t i = 0; i < size_t(primitive.indexCount); ++i) {
+        uint32_t index = 0;
+        if (indexSize == 4)
+            std::memcpy(&index, indexBytes.data() + 4 * i, 4);
+        else if (indexSize == 2) {
+            uint16_t shortIndex = 0;
+            std::memcpy(&shortIndex, indexBytes.data() + 2 * i, 2);
+            index = shortIndex;
+        } else
+            index = uint32_t(indexBytes[i]);
+        const size_t at = offset + size_t(index) * vertexStride;
+        if (at + 3 * sizeof(float) > vertexBytes.size())
+            return {};
+        float position[3];
+        std::memcpy(position, vertexBytes.data() + at, sizeof(position));
+        corners.emplace_back(position[0], position[1], position[2]);
+    }
+    return corners;
+}
+
+// Whether `model`'s surface is part of a convex body's boundary, its triangles wound
+// counter-clockwise seen from outside (as glTF's front faces): every corner lies on or
+// behind every triangle's plane. Its front faces then cover each pixel at most once. False
+// where its triangles cannot be read back (readTriangles).
+bool modelIsConvex(const GpuModel& model)
+{
+    std::vector<glm::dvec3> corners;
+    for (const GpuPrimitive& primitive : model.primitives) {
+        const std::vector<glm::dvec3> mesh = readTriangles(primitive);
+        if (mesh.empty() || corners.size() + mesh.size() > size_t(kMaxConvexTestIndices))
+            return false;
+        // A mirroring transform turns the winding (setFrontFaceFor): swap two corners back.
+        const bool mirrored = glm::determinant(glm::dmat3(primitive.modelFromMesh)) < 0.0;
+        for (size_t i = 0; i < mesh.size(); ++i)
+            corners.emplace_back(primitive.modelFromMesh *
+                                 glm::dvec4(mesh[mirrored && i % 3 != 0 ? i + (i % 3 == 1 ? 1 : -1) : i], 1.0));
+    }
+    if (corners.empty())
+        return false;
+    glm::dvec3 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& p : corners) {
+        low = glm::min(low, p);
+        high = glm::max(high, p);
+    }
+    const double extent = glm::length(high - low);
+    if (!(extent > 0.0) || !std::isfinite(extent))
+        return false;
+    const double tolerance = 1e-6 * extent;
+    bool anyFace = false;
+    for (size_t t = 0; t < corners.size(); t += 3) {
+        const glm::dvec3& a = corners[t];
+        const glm::dvec3 normal = glm::cross(corners[t + 1] - a, corners[t + 2] - a);
+        const double length = glm::length(normal);
+        if (!(length > 1e-12 * extent * extent))
+            continue; // degenerate: covers no pixel
+        anyFace = true;
+        for (const glm::dvec3& p : corners)
+            if (glm::dot(normal, p - a) > tolerance * length)
+                return false;
+    }
+    return anyFace;
+}
 
 bool isCaster(const DrawItem& item)
 {
@@ -124,37 +239,44 @@ void coverFacePolygon(const glm::dmat4& cameraFromModel, int axis, double plane,
 // The frame's pixels (a width x height viewport) where the phantoms' depth is read: the
 // darkening's rectangles `darkened` (in texels of `scale` x `scale` pixels) and the window
 // boxes of the virtual objects (the items that are not phantoms) in front of the camera; the
-// whole viewport where a box reaches behind it. Disjoint rectangles of tiles.
+// whole viewport where a box reaches behind it. Disjoint rectangles of tiles. With
+// `outsideDarkened`, the tiles of `darkened` left out (the apply pass writes the depth there).
+// The darkening's tiles are the same tiles: kCoverTilePixels / scale texels each.
 std::vector<PixelRect> depthRects(const glm::dmat4& clipFromCamera, const std::vector<GpuModel>& models,
                                   std::span<const DrawItem> items, std::span<const PixelRect> darkened, int scale,
-                                  int width, int height)
+                                  int width, int height, bool outsideDarkened)
 {
     TileCover cover(width, height, kCoverTilePixels);
-    const auto addBox = [&](double x0, double y0, double x1, double y1) {
+    TileCover darkenedCover(width, height, kCoverTilePixels);
+    const auto addBox = [](TileCover& to, double x0, double y0, double x1, double y1) {
         const std::array<glm::dvec2, 4> corners{glm::dvec2(x0, y0), glm::dvec2(x1, y0), glm::dvec2(x1, y1),
                                                 glm::dvec2(x0, y1)};
-        cover.addConvex(corners, 0.0);
+        to.addConvex(corners, 0.0);
     };
     // Half a pixel inside: a rectangle's far edges lie on the next tiles' near edges.
     for (const PixelRect& rect : darkened)
-        addBox(rect.x0 * scale + 0.5, rect.y0 * scale + 0.5, rect.x1 * scale - 0.5, rect.y1 * scale - 0.5);
+        addBox(outsideDarkened ? darkenedCover : cover, rect.x0 * scale + 0.5, rect.y0 * scale + 0.5,
+               rect.x1 * scale - 0.5, rect.y1 * scale - 0.5);
     for (const DrawItem& item : items) {
         if (item.phantom)
             continue;
         glm::dvec2 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+        bool behind = false;
         for (const glm::dvec3& corner : boundsCorners(models[size_t(item.model)], item.cameraFromModel)) {
             const glm::dvec4 clip = clipFromCamera * glm::dvec4(corner, 1.0);
-            if (!(clip.w > 1e-6)) {
-                cover.addAll();
-                return cover.rects();
-            }
+            behind = behind || !(clip.w > 1e-6);
             const glm::dvec2 window((clip.x / clip.w * 0.5 + 0.5) * width, (clip.y / clip.w * 0.5 + 0.5) * height);
             low = glm::min(low, window);
             high = glm::max(high, window);
         }
+        if (behind) {
+            cover.addAll();
+            break;
+        }
         // A pixel of margin: rasterised pixels reach half a pixel past the projected outline.
-        addBox(low.x - 1.0, low.y - 1.0, high.x + 1.0, high.y + 1.0);
+        addBox(cover, low.x - 1.0, low.y - 1.0, high.x + 1.0, high.y + 1.0);
     }
+    cover.subtract(darkenedCover);
     return cover.rects();
 }
 
@@ -275,17 +397,51 @@ void ShadowPass::linkReceiverPrograms()
     }
 }
 
-void ShadowPass::linkApplyProgram()
+void ShadowPass::linkApplyPrograms()
 {
-    if (applyProgram_)
+    if (applyPrograms_[1].program)
         return;
-    applyProgram_ = linkProgram(kShadowApplyProgram);
-    applyCameraFromMeshLocation_ = uniformLocation(applyProgram_, "uCameraFromMesh");
-    applyNormalFromMeshLocation_ = glGetUniformLocation(applyProgram_.name(), "uNormalFromMesh");
-    applyTexelsPerPixelLocation_ = uniformLocation(applyProgram_, "uTexelsPerPixel");
-    bindUniformBlock(applyProgram_, "Frame", kFrameBlockBinding);
-    glUseProgram(applyProgram_.name());
-    glUniform1i(uniformLocation(applyProgram_, "uRatio"), GLint(kRatioUnit));
+    for (int writesDepth = 0; writesDepth < 2; ++writesDepth) {
+        ApplyProgram& apply = applyPrograms_[writesDepth];
+        apply.program = linkProgram(kShadowApplyProgram,
+                                    writesDepth ? "#define APPLY_WRITES_DEPTH 1\n" : "#define APPLY_WRITES_DEPTH 0\n");
+        apply.cameraFromMesh = uniformLocation(apply.program, "uCameraFromMesh");
+        apply.normalFromMesh = glGetUniformLocation(apply.program.name(), "uNormalFromMesh");
+        apply.texelsPerPixel = uniformLocation(apply.program, "uTexelsPerPixel");
+        bindUniformBlock(apply.program, "Frame", kFrameBlockBinding);
+        glUseProgram(apply.program.name());
+        glUniform1i(uniformLocation(apply.program, "uRatio"), GLint(kRatioUnit));
+    }
+}
+
+bool ShadowPass::isConvex(const std::vector<GpuModel>& models, ModelId index)
+{
+    if (convex_.size() < models.size())
+        convex_.resize(models.size(), -1);
+    int8_t& known = convex_[size_t(index)];
+    if (known < 0)
+        known = modelIsConvex(models[size_t(index)]) ? 1 : 0;
+    return known == 1;
+}
+
+bool ShadowPass::applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items)
+{
+    const DrawItem* phantom = nullptr;
+    for (const DrawItem& item : items)
+        if (item.phantom && !item.receiverOnly) {
+            if (phantom)
+                return false;
+            phantom = &item;
+        }
+    if (!phantom)
+        return false;
+    const GpuModel& model = models[size_t(phantom->model)];
+    if (model.pose)
+        return false; // its vertices may change with every pose
+    for (const GpuPrimitive& primitive : model.primitives)
+        if (model.materials[primitive.material].doubleSided)
+            return false;
+    return isConvex(models, phantom->model);
 }
 
 void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
@@ -814,7 +970,7 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     if (!enabled() || std::none_of(items.begin(), items.end(), [](const DrawItem& i) { return i.phantom; }))
         return;
     linkReceiverPrograms();
-    linkApplyProgram();
+    linkApplyPrograms();
     GLint frameFramebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &frameFramebuffer);
     GLint viewport[4] = {};
@@ -842,7 +998,11 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     const auto darkeningWith = [](const DarkeningProgram& program) {
         return ReceiverProgram{&program.program, program.cameraFromMesh, program.normalFromMesh, true};
     };
-    const ReceiverProgram apply{&applyProgram_, applyCameraFromMeshLocation_, applyNormalFromMeshLocation_, false};
+    const auto applyWith = [](const ApplyProgram& program) {
+        return ReceiverProgram{&program.program, program.cameraFromMesh, program.normalFromMesh, false};
+    };
+    const ReceiverProgram apply = applyWith(applyPrograms_[0]);
+    const ReceiverProgram applyWritingDepth = applyWith(applyPrograms_[1]);
     // receiverOnly: which items; culling: whether single-sided materials hide back faces.
     const auto drawItems = [&](bool receiverOnly, bool culling, const ReceiverProgram& with) {
         glUseProgram(with.program->name());
@@ -930,7 +1090,12 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     // 3. In the frame: the phantoms' depth (real surfaces hide the virtual objects drawn
     //    next), then the frame times the darkening. Both after the buffer's passes: one
     //    framebuffer switch fewer, and on llvmpipe a depth meets GL_EQUAL only in the scene
-    //    (the run of draws into one framebuffer) that wrote it.
+    //    (the run of draws into one framebuffer) that wrote it. Where one phantom alone is
+    //    drawn and each pixel can meet it once (applyCanWriteDepth: a table's slab), the
+    //    apply pass writes its depth in the darkening's rectangles itself, with GL_LESS,
+    //    and the depth pass draws only outside them: the phantom is rasterised once there
+    //    instead of twice (car.toml: the receivers' CPU ~2 ms less a frame, bit-identical).
+    const bool applyWritesDepth = !rects.empty() && applyCanWriteDepth(models, items);
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(frameFramebuffer));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     glDepthFunc(GL_LESS);
@@ -939,33 +1104,41 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     // Only where a pass reads it: the darkening's rectangles (the apply pass below) and the
     // virtual objects' boxes (MeshPass, next). A table phantom fills most of the frame.
     glEnable(GL_SCISSOR_TEST);
-    for (const PixelRect& rect :
-         depthRects(glm::dmat4(frame.clipFromCamera), models, items, rects, ratio_.scale, viewport[2], viewport[3])) {
+    for (const PixelRect& rect : depthRects(glm::dmat4(frame.clipFromCamera), models, items, rects, ratio_.scale,
+                                            viewport[2], viewport[3], applyWritesDepth)) {
         glScissor(viewport[0] + rect.x0, viewport[1] + rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
         drawItems(false, true, depthOnly);
     }
     glDisable(GL_SCISSOR_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     if (!rects.empty()) {
-        glDepthMask(GL_FALSE);
         glEnable(GL_SCISSOR_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_DST_COLOR, GL_ZERO);
         // The frame times the darkening, over the same rectangles, drawn over the receivers
-        //    at the frame's resolution (against the phantoms' depth of step 1) so that each
-        //    pixel upsamples the darkening from its own surface (shadow_apply.frag). (Where
-        //    two receiver-only surfaces overlap in the image, each applies the buffer's texel.)
-        glUseProgram(applyProgram_.name());
-        glUniform1f(applyTexelsPerPixelLocation_, 1.0f / float(ratio_.scale));
+        //    at the frame's resolution (against the phantoms' depth) so that each pixel
+        //    upsamples the darkening from its own surface (shadow_apply.frag). (Where two
+        //    receiver-only surfaces overlap in the image, each applies the buffer's texel.)
+        for (const ApplyProgram& program : applyPrograms_) {
+            glUseProgram(program.program.name());
+            glUniform1f(program.texelsPerPixel, 1.0f / float(ratio_.scale));
+        }
         glActiveTexture(GL_TEXTURE0 + kRatioUnit);
         glBindTexture(GL_TEXTURE_2D, ratio_.colour.name());
         const int s = ratio_.scale;
         for (const PixelRect& rect : rects) {
             glScissor(viewport[0] + rect.x0 * s, viewport[1] + rect.y0 * s, (rect.x1 - rect.x0) * s,
                       (rect.y1 - rect.y0) * s);
-            glDepthFunc(GL_EQUAL);
-            drawItems(false, true, apply);
+            if (applyWritesDepth) {
+                glDepthFunc(GL_LESS);
+                glDepthMask(GL_TRUE);
+                drawItems(false, true, applyWritingDepth);
+            } else {
+                glDepthFunc(GL_EQUAL);
+                drawItems(false, true, apply);
+            }
             glDepthFunc(GL_LESS);
+            glDepthMask(GL_FALSE);
             drawItems(true, false, apply);
         }
         glActiveTexture(GL_TEXTURE0 + kRatioUnit);

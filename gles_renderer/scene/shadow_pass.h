@@ -48,7 +48,11 @@ public:
                 const glm::dmat3& environmentFromCamera, RenderCpuClock* profile, RenderStats& stats);
     // Forgets the map, so that the next render draws it whole: the models it was drawn from
     // are gone (their indices may name new ones).
-    void invalidate() { drawn_ = false; }
+    void invalidate()
+    {
+        drawn_ = false;
+        convex_.clear();
+    }
 
     // Writes the light's members of `frame` for a view whose camera frame sits at
     // `cameraFromView` in the frame's camera frame (identity for the frame itself). Leaves them
@@ -105,7 +109,7 @@ private:
     };
     // (Re)creates ratio_ for a frame of this size.
     void prepareRatioBuffer(int frameWidth, int frameHeight);
-    void linkApplyProgram();
+    void linkApplyPrograms();
     // The light's orthographic camera, in the "stable" frame: the environment's axes (the
     // camera's rotation in them is environmentFromCamera) with its origin at the first caster's
     // model origin. The casters (on one marker) and the light (from the environment) stand still
@@ -229,10 +233,26 @@ private:
     GlProgram receiverDistanceProgram_;
     GLint receiverDistanceCameraFromMeshLocation_ = -1;
     GLint receiverDistanceNormalFromMeshLocation_ = -1;
-    GlProgram applyProgram_;
-    GLint applyCameraFromMeshLocation_ = -1;
-    GLint applyNormalFromMeshLocation_ = -1;
-    GLint applyTexelsPerPixelLocation_ = -1;
+    // shadow_apply.frag: [0] over the phantoms' depth (GL_EQUAL) and the receiver-only
+    // surfaces, leaving the pixels it does not darken alone (discard); [1] (APPLY_WRITES_DEPTH)
+    // writing the phantom's depth as it applies, every pixel (a ratio of 1 where it darkens
+    // nothing: the blend leaves the pixel exactly as it was).
+    struct ApplyProgram {
+        GlProgram program;
+        GLint cameraFromMesh = -1;
+        GLint normalFromMesh = -1;
+        GLint texelsPerPixel = -1;
+    };
+    ApplyProgram applyPrograms_[2];
+    // Whether the apply pass can write the phantoms' depth itself (GL_LESS, one pass instead
+    // of a depth pass and a GL_EQUAL one): exactly where each pixel meets at most one phantom
+    // fragment, or the farther one would be darkened too and the nearer one over it. So: one
+    // phantom (not receiver-only) among `items`, single-sided (back faces culled), not posed
+    // (its vertices stay), and convex (isConvex).
+    [[nodiscard]] bool applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
+    // Whether models[index] is convex (gpu_model_convexity.h), worked out once per model.
+    [[nodiscard]] bool isConvex(const std::vector<GpuModel>& models, ModelId index);
+    std::vector<int8_t> convex_; // by model index: -1 not known yet, 0 no, 1 yes
 };
 
 } // namespace lumar

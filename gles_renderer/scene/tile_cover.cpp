@@ -112,6 +112,15 @@ void TileCover::mergeLabels(int blocks)
         }
 }
 
+void TileCover::subtract(const TileCover& other)
+{
+    if (other.columns_ != columns_ || other.rows_ != rows_)
+        return;
+    for (size_t i = 0; i < cells_.size(); ++i)
+        if (other.cells_[i] != 0)
+            cells_[i] = 0;
+}
+
 std::vector<TileCover::LabelledRect> TileCover::labelledRects() const
 {
     std::vector<uint32_t> labels(cells_);

@@ -44,6 +44,8 @@ public:
     // `blocks` x `blocks` tiles (aligned to the grid): fewer, larger rectangles of one label,
     // each label a superset of what its tiles need.
     void mergeLabels(int blocks);
+    // Unmarks the tiles that `other` (a cover of the same viewport and tile size) marks.
+    void subtract(const TileCover& other);
 
     [[nodiscard]] int columns() const { return columns_; }
     [[nodiscard]] int rows() const { return rows_; }

@@ -1,9 +1,10 @@
-// shaders_es/shadow.glsl's kernels across a straight shadow edge: the virtual objects' four
-// taps (mesh.frag) against the real surfaces' nine (phantom_receiver.frag), the reference.
-// The four corners alone (issue 18: one lookup a pixel fewer than the corners and the centre)
-// must reach as far as the nine taps and stay within 1/6 of them: their penumbra climbs in two
-// steps of 1/2 where the nine's climbs in three of 1/3. A single bilinear tap (a penumbra one
-// texel wide) would be 1/3 off one texel from the edge, and fails.
+// shaders_es/shadow.glsl's kernel across a straight shadow edge: the four corners of a 3 x 3
+// grid, which the virtual objects (mesh.frag) and the real surfaces (phantom_receiver.frag)
+// both take since issue 18, against the whole 3 x 3 grid (what the receivers took before), the
+// reference, written out below. The four corners must reach as far as the nine taps and stay
+// within 1/6 of them: their penumbra climbs in two steps of 1/2 where the nine's climbs in
+// three of 1/3. A single bilinear tap (a penumbra one texel wide) would be 1/3 off one texel
+// from the edge, and fails.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,13 +30,23 @@ constexpr float kOccluder = 0.25f, kReference = 0.5f, kFar = 1.0f;
 const char* kMain = R"(
 uniform vec3 uProbe; // x samples, y their span in texels, z the reference depth
 layout(location = 0) out vec4 outVisibility; // x four taps, y nine taps
+// The reference: every tap of the 3 x 3 grid the corners belong to, averaged.
+float nineTaps(vec4 coordinates)
+{
+    vec2 spacing = vec2(shadowParams.x * shadowParams.y);
+    float sum = 0.0;
+    for (int j = -1; j <= 1; ++j)
+        for (int i = -1; i <= 1; ++i)
+            sum += texture(uShadowMap, vec3(coordinates.xy + vec2(float(i), float(j)) * spacing, coordinates.z));
+    return sum / 9.0;
+}
 void main()
 {
     // Across the edge at u = 0.5, uProbe.y texels centred on it, in the middle row.
     float texels = (gl_FragCoord.x / uProbe.x - 0.5) * uProbe.y;
     vec4 coordinates = vec4(0.5 + texels * shadowParams.y, 0.5, uProbe.z, 1.0);
     outVisibility = vec4(shadowVisibilityFourTapsAt(coordinates),
-                         shadowVisibilityWithCorners(coordinates, shadowCorners(coordinates)), 0.0, 1.0);
+                         nineTaps(coordinates), 0.0, 1.0);
 }
 )";
 

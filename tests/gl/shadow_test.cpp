@@ -390,6 +390,85 @@ TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
     }
 }
 
+// The apply pass writes a phantom's depth itself (GL_LESS) only where each pixel meets one
+// phantom fragment (ShadowPass::applyCanWriteDepth); elsewhere it darkens only the nearest
+// surface (GL_EQUAL against a depth pass). In the floating box's umbra (as above), a second
+// phantom on the ground, and a single phantom made of two stacked quads (not convex: from
+// above each pixel of the small one meets both), are darkened once: their tops show the
+// umbra's value, not its square (128 -> 89, twice 62).
+TEST(Shadows, OverlappingPhantomSurfacesAreDarkenedOnce)
+{
+    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
+    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
+    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    // Tops 2 cm above the ground: the umbra moves 1.2 cm towards the light on them.
+    const glm::dvec3 onTop = shadowCentre + glm::dvec3(0.02 / std::tan(kPi / 3.0), 0.0, 0.02);
+    for (const bool oneModel : {false, true}) {
+        LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+        prepare(renderer, 1.0f);
+        renderer.setLight(light(towardsLight, 2.0f));
+        const ModelId cube = renderer.addModel(makeCube());
+        std::vector<DrawItem> items{{cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+        if (oneModel) {
+            const auto quad = [](float half, float z) {
+                return test::makeQuad({glm::vec3(-half, -half, z), glm::vec3(half, -half, z), glm::vec3(half, half, z),
+                                       glm::vec3(-half, half, z)},
+                                      GltfMaterial{});
+            };
+            GltfModel stacked = quad(0.6f, 0.0f);
+            stacked.primitives.push_back(quad(0.05f, 0.02f).primitives[0]);
+            stacked.boundsMax.z = 0.02f;
+            const glm::dmat4 shift = glm::translate(glm::dmat4(1.0), glm::dvec3(onTop.x, onTop.y, 0.0));
+            items.push_back({renderer.addModel(stacked), cameraFromWorld() * shift, -1, true});
+        } else {
+            items.push_back(groundPhantom(cube));
+            items.push_back({cube, placed({onTop.x, onTop.y, 0.01}, {0.1, 0.1, 0.02}), -1, true});
+        }
+        const Image8 out = renderOverGrey(renderer, items);
+        for (const glm::dvec3& offset : {glm::dvec3(0.0), glm::dvec3(0.02, 0.0, 0.0), glm::dvec3(0.0, 0.02, 0.0)})
+            EXPECT_NEAR(code(out, pixelOf(onTop + offset)), expected, 3.0)
+                << (oneModel ? "one model" : "two phantoms") << ", top at " << offset.x << "," << offset.y;
+        // The ground beside the top (which spans x -0.038 to 0.062 from the umbra's centre, the
+        // umbra -0.079 to 0.079), in the umbra too.
+        EXPECT_NEAR(code(out, pixelOf(shadowCentre + glm::dvec3(-0.06, 0.0, 0.0))), expected, 3.0)
+            << (oneModel ? "one model" : "two phantoms");
+    }
+}
+
+// Where the apply pass writes the ground phantom's depth itself (one convex phantom), the
+// depth is there for the virtual objects drawn next: a bright quad 5 cm under the ground, in
+// the floating box's umbra, stays hidden, and the ground shows the umbra's value.
+TEST(Shadows, TheApplyPassWritesThePhantomsDepthWhereItDarkens)
+{
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
+    prepare(renderer, 1.0f);
+    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
+    renderer.setLight(light(towardsLight, 2.0f));
+    const ModelId cube = renderer.addModel(makeCube());
+    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
+    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    GltfMaterial white;
+    white.baseColorFactor = glm::vec4(1.0f);
+    const ModelId under =
+        renderer.addModel(test::makeQuad({glm::vec3(-0.03f, -0.03f, 0.0f), glm::vec3(0.03f, -0.03f, 0.0f),
+                                          glm::vec3(0.03f, 0.03f, 0.0f), glm::vec3(-0.03f, 0.03f, 0.0f)},
+                                         white));
+    const glm::dmat4 belowGround =
+        cameraFromWorld() * glm::translate(glm::dmat4(1.0), shadowCentre - glm::dvec3(0.0, 0.0, 0.05));
+    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    const DrawItem items[] = {
+        groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}, {under, belowGround, -1}};
+    const Image8 out = renderOverGrey(renderer, items);
+    for (const glm::dvec3& offset : {glm::dvec3(0.0), glm::dvec3(0.02, 0.0, 0.0), glm::dvec3(0.0, 0.02, 0.0)})
+        EXPECT_NEAR(code(out, pixelOf(shadowCentre + offset)), expected, 3.0)
+            << "ground at " << offset.x << "," << offset.y;
+    // Without the ground the quad shows there, brighter than the camera image.
+    const DrawItem quadAlone[] = {{cube, placed(boxCentre, glm::dvec3(0.1)), -1}, {under, belowGround, -1}};
+    const Image8 seen = renderOverGrey(renderer, quadAlone);
+    EXPECT_GT(code(seen, pixelOf(shadowCentre)), kGrey + 20);
+}
+
 TEST(Shadows, TheShadowMovesWithTheLight)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());

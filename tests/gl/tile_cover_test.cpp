@@ -166,4 +166,33 @@ TEST(TileCover, LabelledRectanglesCarryTheUnionOfTheirTilesLabels)
 }
 
 } // namespace
+// subtract unmarks exactly the tiles the other cover marks (ShadowPass's depth pass leaves out
+// the darkening's tiles where the apply pass writes the depth), and a cover of another grid
+// leaves it as it was.
+TEST(TileCover, SubtractUnmarksTheOtherCoversTiles)
+{
+    constexpr int width = 150, height = 90, tile = 10;
+    TileCover cover(width, height, tile);
+    cover.addConvex(std::vector<glm::dvec2>{{5.0, 5.0}, {120.0, 5.0}, {120.0, 80.0}, {5.0, 80.0}}, 0.0, 3u);
+    TileCover other(width, height, tile);
+    other.addConvex(std::vector<glm::dvec2>{{35.0, 25.0}, {64.0, 25.0}, {64.0, 44.0}, {35.0, 44.0}}, 0.0);
+    TileCover result = cover;
+    result.subtract(other);
+    int unmarked = 0;
+    for (int row = 0; row < cover.rows(); ++row)
+        for (int column = 0; column < cover.columns(); ++column) {
+            EXPECT_EQ(result.label(column, row), other.marked(column, row) ? 0u : cover.label(column, row))
+                << column << "," << row;
+            unmarked += cover.marked(column, row) && !result.marked(column, row);
+        }
+    EXPECT_EQ(unmarked, 4 * 3); // columns 3-6 of rows 2-4
+    TileCover coarse(width, height, 2 * tile);
+    coarse.addAll();
+    TileCover unchanged = cover;
+    unchanged.subtract(coarse);
+    for (int row = 0; row < cover.rows(); ++row)
+        for (int column = 0; column < cover.columns(); ++column)
+            EXPECT_EQ(unchanged.label(column, row), cover.label(column, row));
+}
+
 } // namespace lumar
