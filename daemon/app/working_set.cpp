@@ -34,18 +34,18 @@ std::vector<Mapping> fileMappings()
     std::ifstream smaps("/proc/self/smaps");
     std::string line;
     while (std::getline(smaps, line)) {
-        uintptr_t start = 0, end = 0;
+        unsigned long start = 0, end = 0; // %lx's type, as wide as a pointer on Linux's ABIs
         char perms[5] = {};
         unsigned long long offset = 0;
-        unsigned inode = 0;
+        unsigned long long inode = 0;
         int pathStart = 0;
         // "start-end perms offset dev inode path": a mapping's header; the rest are its fields.
-        if (std::sscanf(line.c_str(), "%lx-%lx %4s %llx %*s %u %n", &start, &end, perms, &offset, &inode, &pathStart) >=
-                5 &&
+        if (std::sscanf(line.c_str(), "%lx-%lx %4s %llx %*s %llu %n", &start, &end, perms, &offset, &inode,
+                        &pathStart) >= 5 &&
             line.find(" kB") == std::string::npos) {
             Mapping m;
-            m.start = start;
-            m.end = end;
+            m.start = uintptr_t(start);
+            m.end = uintptr_t(end);
             // Private (p), not writable, backed by a file (inode), a path that is not a [pseudo].
             m.readOnlyFile = perms[0] == 'r' && perms[1] == '-' && perms[3] == 'p' && inode != 0 && pathStart > 0 &&
                              size_t(pathStart) < line.size() && line[size_t(pathStart)] == '/';

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "gles_renderer/assets/convex_surface.h"
 #include "gles_renderer/assets/gltf_rig.h"
 #include "gles_renderer/assets/lafortune_material.h"
 #include "gles_renderer/assets/mesh_simplify.h"
@@ -313,6 +314,7 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
     GpuModel gpu;
     gpu.boundsMin = model.boundsMin;
     gpu.boundsMax = model.boundsMax;
+    gpu.convex = isConvexSurface(model);
     gpu.textures.resize(model.textures.size());
     for (size_t t = 0; t < model.textures.size(); ++t)
         if (textureUsed[t]) {

@@ -87,6 +87,9 @@ struct GpuModel {
     // poseGeneration counts the poses.
     std::shared_ptr<GpuModelPose> pose;
     uint64_t poseGeneration = 0;
+    // Its surface bounds a convex body (assets/convex_surface.h), as uploaded: ShadowPass lets
+    // a single convex phantom write its depth in the apply pass.
+    bool convex = false;
 };
 
 // Cells along a model's longest side for its finest environment-map stand-in: a

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -50,120 +49,6 @@ constexpr double kCoverMarginTexels = 1.5;
 // of 3 interleaved, the darkening's rasteriser CPU ms: one label 6.3, by tile 5.7 (86 rects),
 // blocks of 2 5.3 (59), of 4 5.3 (39), of 8 6.1 (34).
 constexpr int kLabelBlockTiles = 2;
-
-// The most triangles a phantom may have for the convexity test (applyCanWriteDepth): a box
-// has 12; a finer mesh keeps the two passes rather than pay for the test.
-constexpr GLsizei kMaxConvexTestIndices = 3 * 256;
-
-// The corners of `primitive`'s triangles (mesh space, three a triangle), read back from its
-// GL buffers; empty where they cannot be read, or for more than kMaxConvexTestIndices.
-std::vector<glm::dvec3> readTriangles(const GpuPrimitive& primitive)
-{
-    if (primitive.indexCount <= 0 || primitive.indexCount > kMaxConvexTestIndices || primitive.indexCount % 3 != 0)
-        return {};
-    // Where the position attribute (location 0, phantom_receiver.vert's aPosition) lies.
-    glBindVertexArray(primitive.vertexArray.name());
-    GLint stride = 0, buffer = 0, components = 0, type = 0;
-    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &stride);
-    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &buffer);
-    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_SIZE, &components);
-    glGetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_TYPE, &type);
-    void* pointer = nullptr;
-    glGetVertexAttribPointerv(0, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
-    glBindVertexArray(0);
-    if (GLuint(buffer) != primitive.vertices.name() || components != 3 || type != GL_FLOAT)
-        return {};
-    const size_t vertexStride = stride > 0 ? size_t(stride) : 3 * sizeof(float);
-    const size_t offset = reinterpret_cast<uintptr_t>(pointer);
-    const size_t indexSize = primitive.indexType == GL_UNSIGNED_INT     ? 4
-                             : primitive.indexType == GL_UNSIGNED_SHORT ? 2
-                                                                        : 1;
-    // The contents of buffer `name` into `to` (empty where it cannot be mapped), through
-    // GL_COPY_READ_BUFFER: no vertex array's state changes.
-    const auto read = [](GLuint name, std::vector<std::byte>& to) {
-        glBindBuffer(GL_COPY_READ_BUFFER, name);
-        GLint64 size = 0;
-        glGetBufferParameteri64v(GL_COPY_READ_BUFFER, GL_BUFFER_SIZE, &size);
-        to.resize(size_t(std::max<GLint64>(size, 0)));
-        const void* mapped =
-            to.empty() ? nullptr : glMapBufferRange(GL_COPY_READ_BUFFER, 0, GLsizeiptr(size), GL_MAP_READ_BIT);
-        if (mapped) {
-            std::memcpy(to.data(), mapped, to.size());
-            glUnmapBuffer(GL_COPY_READ_BUFFER);
-        } else {
-            to.clear();
-        }
-        glBindBuffer(GL_COPY_READ_BUFFER, 0);
-    };
-    std::vector<std::byte> indexBytes, vertexBytes;
-    read(primitive.indices.name(), indexBytes);
-    read(primitive.vertices.name(), vertexBytes);
-    if (indexBytes.size() < size_t(primitive.indexCount) * indexSize)
-        return {};
-    std::vector<glm::dvec3> corners;
-    corners.reserve(size_t(primitive.indexCount));
-    for (size_t i = 0; i < size_t(primitive.indexCount); ++i) {
-        uint32_t index = 0;
-        if (indexSize == 4)
-            std::memcpy(&index, indexBytes.data() + 4 * i, 4);
-        else if (indexSize == 2) {
-            uint16_t shortIndex = 0;
-            std::memcpy(&shortIndex, indexBytes.data() + 2 * i, 2);
-            index = shortIndex;
-        } else
-            index = uint32_t(indexBytes[i]);
-        const size_t at = offset + size_t(index) * vertexStride;
-        if (at + 3 * sizeof(float) > vertexBytes.size())
-            return {};
-        float position[3];
-        std::memcpy(position, vertexBytes.data() + at, sizeof(position));
-        corners.emplace_back(position[0], position[1], position[2]);
-    }
-    return corners;
-}
-
-// Whether `model`'s surface is part of a convex body's boundary, its triangles wound
-// counter-clockwise seen from outside (as glTF's front faces): every corner lies on or
-// behind every triangle's plane. Its front faces then cover each pixel at most once. False
-// where its triangles cannot be read back (readTriangles).
-bool modelIsConvex(const GpuModel& model)
-{
-    std::vector<glm::dvec3> corners;
-    for (const GpuPrimitive& primitive : model.primitives) {
-        const std::vector<glm::dvec3> mesh = readTriangles(primitive);
-        if (mesh.empty() || corners.size() + mesh.size() > size_t(kMaxConvexTestIndices))
-            return false;
-        // A mirroring transform turns the winding (setFrontFaceFor): swap two corners back.
-        const bool mirrored = glm::determinant(glm::dmat3(primitive.modelFromMesh)) < 0.0;
-        for (size_t i = 0; i < mesh.size(); ++i)
-            corners.emplace_back(primitive.modelFromMesh *
-                                 glm::dvec4(mesh[mirrored && i % 3 != 0 ? i + (i % 3 == 1 ? 1 : -1) : i], 1.0));
-    }
-    if (corners.empty())
-        return false;
-    glm::dvec3 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& p : corners) {
-        low = glm::min(low, p);
-        high = glm::max(high, p);
-    }
-    const double extent = glm::length(high - low);
-    if (!(extent > 0.0) || !std::isfinite(extent))
-        return false;
-    const double tolerance = 1e-6 * extent;
-    bool anyFace = false;
-    for (size_t t = 0; t < corners.size(); t += 3) {
-        const glm::dvec3& a = corners[t];
-        const glm::dvec3 normal = glm::cross(corners[t + 1] - a, corners[t + 2] - a);
-        const double length = glm::length(normal);
-        if (!(length > 1e-12 * extent * extent))
-            continue; // degenerate: covers no pixel
-        anyFace = true;
-        for (const glm::dvec3& p : corners)
-            if (glm::dot(normal, p - a) > tolerance * length)
-                return false;
-    }
-    return anyFace;
-}
 
 bool isCaster(const DrawItem& item)
 {
@@ -414,16 +299,6 @@ void ShadowPass::linkApplyPrograms()
     }
 }
 
-bool ShadowPass::isConvex(const std::vector<GpuModel>& models, ModelId index)
-{
-    if (convex_.size() < models.size())
-        convex_.resize(models.size(), -1);
-    int8_t& known = convex_[size_t(index)];
-    if (known < 0)
-        known = modelIsConvex(models[size_t(index)]) ? 1 : 0;
-    return known == 1;
-}
-
 bool ShadowPass::applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items)
 {
     const DrawItem* phantom = nullptr;
@@ -441,7 +316,7 @@ bool ShadowPass::applyCanWriteDepth(const std::vector<GpuModel>& models, std::sp
     for (const GpuPrimitive& primitive : model.primitives)
         if (model.materials[primitive.material].doubleSided)
             return false;
-    return isConvex(models, phantom->model);
+    return model.convex;
 }
 
 void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)

@@ -48,11 +48,7 @@ public:
                 const glm::dmat3& environmentFromCamera, RenderCpuClock* profile, RenderStats& stats);
     // Forgets the map, so that the next render draws it whole: the models it was drawn from
     // are gone (their indices may name new ones).
-    void invalidate()
-    {
-        drawn_ = false;
-        convex_.clear();
-    }
+    void invalidate() { drawn_ = false; }
 
     // Writes the light's members of `frame` for a view whose camera frame sits at
     // `cameraFromView` in the frame's camera frame (identity for the frame itself). Leaves them
@@ -248,11 +244,8 @@ private:
     // of a depth pass and a GL_EQUAL one): exactly where each pixel meets at most one phantom
     // fragment, or the farther one would be darkened too and the nearer one over it. So: one
     // phantom (not receiver-only) among `items`, single-sided (back faces culled), not posed
-    // (its vertices stay), and convex (isConvex).
-    [[nodiscard]] bool applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
-    // Whether models[index] is convex (gpu_model_convexity.h), worked out once per model.
-    [[nodiscard]] bool isConvex(const std::vector<GpuModel>& models, ModelId index);
-    std::vector<int8_t> convex_; // by model index: -1 not known yet, 0 no, 1 yes
+    // (its vertices stay), and convex (GpuModel::convex).
+    [[nodiscard]] static bool applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
 };
 
 } // namespace lumar
