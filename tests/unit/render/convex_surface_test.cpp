@@ -1,6 +1,5 @@
-#include <gtest/gtest.h>
-
 #include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
 
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/convex_surface.h"
