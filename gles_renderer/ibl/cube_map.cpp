@@ -27,6 +27,15 @@ void checkCubeSize(int size)
 
 } // namespace
 
+float maxComponent(const CubeMapF& cube)
+{
+    float m = 0.0f;
+    for (const ImageF& face : cube.faces)
+        for (const float v : face.data)
+            m = std::max(m, v);
+    return m;
+}
+
 void checkCubeMap(const CubeMapF& cube)
 {
     checkCubeSize(cube.size);

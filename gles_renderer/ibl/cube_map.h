@@ -47,6 +47,10 @@ glm::vec3 cubeTexelCentreDirection(int face, int size, int x, int y);
 // Throws InputError unless 1 ≤ size ≤ kMaxCubeSize and every face is size×size×3.
 void checkCubeMap(const CubeMapF& cube);
 
+// The largest channel value of any texel (0 for an empty map): the scale map errors are
+// stated as a share of.
+float maxComponent(const CubeMapF& cube);
+
 // Face and (s, t) that GL would sample for `dir` (need not be unit). Throws InputError for
 // a zero or non-finite direction.
 CubeCoord cubeCoordinate(const glm::vec3& dir);

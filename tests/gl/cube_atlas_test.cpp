@@ -143,12 +143,7 @@ TEST(CubeAtlas, LookupMatchesTheCpuCubeLookupAndStaysInsideTheFace)
 
     const std::string fragment = "#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n" +
                                  std::string(shaders::source("cube_atlas.glsl")) + kMain;
-    GlProgram program = GlProgram::create();
-    const GlShader vs = test::compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
-    const GlShader fs = test::compileTestShader(GL_FRAGMENT_SHADER, fragment);
-    glAttachShader(program.name(), vs.name());
-    glAttachShader(program.name(), fs.name());
-    glLinkProgram(program.name());
+    const GlProgram program = test::linkFullscreenTestProgram(fragment);
 
     GlTexture output = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, output.name());

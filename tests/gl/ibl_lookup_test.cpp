@@ -161,15 +161,6 @@ LookupError lookupError(const CubeMapF& map, const std::vector<glm::vec3>& direc
     return e;
 }
 
-float maxComponent(const CubeMapF& cube)
-{
-    float m = 0.0f;
-    for (const ImageF& face : cube.faces)
-        for (const float v : face.data)
-            m = std::max(m, v);
-    return m;
-}
-
 struct GlossyLookupErrors {
     // Per direction set (lookupDirections' order): the GPU maps' lookups.
     std::vector<LookupError> glossy1, glossy2;

@@ -53,15 +53,6 @@ ImageF equirectOf(int width, int height, const std::function<glm::vec3(glm::vec3
     return map;
 }
 
-float maxComponent(const CubeMapF& cube)
-{
-    float m = 0.0f;
-    for (const ImageF& face : cube.faces)
-        for (const float v : face.data)
-            m = std::max(m, v);
-    return m;
-}
-
 // Largest |gpu - reference(texel direction)| over every texel, over `scale`.
 float maxRelativeError(const CubeMapF& gpu, const std::function<glm::vec3(glm::vec3)>& reference, float scale)
 {

@@ -106,12 +106,7 @@ TEST(LafortuneShader, MatchesTheCpuEvaluationOverAGridOfDirectionsAndParameters)
 
     const std::string fragment = "#version 300 es\nprecision highp float;\nprecision highp sampler2D;\n" +
                                  std::string(shaders::source("lafortune.glsl")) + kMain;
-    GlProgram program = GlProgram::create();
-    const GlShader vs = test::compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
-    const GlShader fs = test::compileTestShader(GL_FRAGMENT_SHADER, fragment);
-    glAttachShader(program.name(), vs.name());
-    glAttachShader(program.name(), fs.name());
-    glLinkProgram(program.name());
+    const GlProgram program = test::linkFullscreenTestProgram(fragment);
 
     GlTexture outputs[3];
     GlFramebuffer framebuffer = GlFramebuffer::create();

@@ -16,6 +16,7 @@
 
 #include "embedded_shaders.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/gl/gpu_texture.h"
 #include "test_shader.h"
 
 namespace lumar {
@@ -59,32 +60,18 @@ TEST(ShadowKernel, TheObjectsFourTapsReachAsFarAsTheNineAndStayWithinASixthOfThe
         for (int x = 0; x < kMapSize; ++x)
             depths[size_t(y) * kMapSize + size_t(x)] =
                 uint32_t(double(x < kMapSize / 2 ? kOccluder : kFar) * 4294967295.0);
-    GlTexture map = GlTexture::create();
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, map.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, kMapSize, kMapSize);
+    // The shadow map's own sampling (ShadowPass): linear, compared with GL_LEQUAL.
+    const GlTexture map = makeDepthCompareTexture(kMapSize, kMapSize, false);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kMapSize, kMapSize, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, depths.data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
 
     // shadow.glsl reads the light's members of the Frame block: plain uniforms here.
     const std::string fragment =
         "#version 300 es\nprecision highp float;\nprecision highp sampler2DShadow;\n"
         "uniform mat4 lightClipFromCamera;\nuniform vec4 shadowParams;\nuniform sampler2DShadow uShadowMap;\n" +
         std::string(shaders::source("shadow.glsl")) + kMain;
-    GlProgram program = GlProgram::create();
-    const GlShader vs = test::compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
-    const GlShader fs = test::compileTestShader(GL_FRAGMENT_SHADER, fragment);
-    glAttachShader(program.name(), vs.name());
-    glAttachShader(program.name(), fs.name());
-    glLinkProgram(program.name());
-    GLint linked = GL_FALSE;
-    glGetProgramiv(program.name(), GL_LINK_STATUS, &linked);
-    ASSERT_EQ(linked, GL_TRUE);
+    const GlProgram program = test::linkFullscreenTestProgram(fragment);
+    ASSERT_FALSE(::testing::Test::HasFailure());
 
     GlTexture output = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, output.name());

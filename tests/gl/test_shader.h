@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "embedded_shaders.h"
 #include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/gl_object.h"
 
@@ -39,6 +40,26 @@ inline GlShader compileTestShader(GLenum stage, const std::string& source)
         ADD_FAILURE() << log;
     }
     return shader;
+}
+
+// A program of fullscreen.vert and `fragment` (a whole shader: #version, precisions, the
+// GLSL include under test and a main), linked; compile and link logs become the test's failures.
+inline GlProgram linkFullscreenTestProgram(const std::string& fragment)
+{
+    GlProgram program = GlProgram::create();
+    const GlShader vs = compileTestShader(GL_VERTEX_SHADER, std::string(shaders::source("fullscreen.vert")));
+    const GlShader fs = compileTestShader(GL_FRAGMENT_SHADER, fragment);
+    glAttachShader(program.name(), vs.name());
+    glAttachShader(program.name(), fs.name());
+    glLinkProgram(program.name());
+    GLint linked = GL_FALSE;
+    glGetProgramiv(program.name(), GL_LINK_STATUS, &linked);
+    if (linked != GL_TRUE) {
+        char log[1024] = {};
+        glGetProgramInfoLog(program.name(), sizeof log, nullptr, log);
+        ADD_FAILURE() << "link: " << log;
+    }
+    return program;
 }
 
 } // namespace lumar::test
