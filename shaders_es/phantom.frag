@@ -8,9 +8,9 @@
 // sRGB below the knee, so a mirror shows the camera's code values). Elsewhere (the back of a
 // box, what lies outside the frame or behind another phantom) the phantom keeps its
 // configured colour, lit by the real environment's maps as mesh.frag lights it (per vertex,
-// phantom.vert): a plausible guess rather than the black or smeared image an unseen point would otherwise get. The two
-// blend over a narrow band (frame edge, grazing view, occlusion edge) so the seam does not
-// flicker as the camera moves.
+// phantom.vert): a plausible guess rather than the black or smeared image an unseen point
+// would otherwise get. The two blend over a narrow band (frame edge, grazing view, occlusion
+// edge) so the seam does not flicker as the camera moves.
 //
 // Its own program rather than a branch in mesh.frag: a phantom needs none of the material
 // textures, normal maps or tangent rotation, and phantom texels are numerous in the maps (a

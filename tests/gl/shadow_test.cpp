@@ -121,6 +121,44 @@ DrawItem groundPhantom(ModelId cube)
     return {cube, placed({0.0, 0.0, -0.01}, {1.2, 1.2, 0.02}), -1, true};
 }
 
+// The floating box's scene (AFloatingBoxShadowsTheGroundPhantomByTheLightsShare and the tests
+// after it): a box of side 0.1 m centred 0.3 m above the ground phantom, a light of intensity
+// 2 at 60 degrees from world +x, a uniform sky L = 1.
+constexpr double kFloatingBoxHeight = 0.3;
+
+glm::dvec3 floatingBoxCentre()
+{
+    return {0.0, 0.0, kFloatingBoxHeight};
+}
+
+glm::dvec3 floatingBoxTowardsLight()
+{
+    return worldDirection(60.0, 0.0);
+}
+
+// The umbra's middle: the box centre's shadow on the ground.
+glm::dvec3 floatingBoxShadowCentre()
+{
+    const glm::dvec3 towardsLight = floatingBoxTowardsLight();
+    return floatingBoxCentre() - towardsLight * (kFloatingBoxHeight / towardsLight.z);
+}
+
+// The sky and the light on `renderer`; returns the cube the box and the ground are made of.
+ModelId prepareFloatingBox(SceneRenderer& renderer)
+{
+    prepare(renderer, 1.0f);
+    renderer.setLight(light(floatingBoxTowardsLight(), 2.0f));
+    return renderer.addModel(makeCube());
+}
+
+// The code value of the grey camera image in the umbra of a light of intensity 2 at 60
+// degrees' elevation under a uniform sky L = 1 (the floating box's; derived above
+// AFloatingBoxShadowsTheGroundPhantomByTheLightsShare): 128 -> 89.
+double umbraCode()
+{
+    return kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+}
+
 // The centroid of the pixels darker than the camera image by more than 10 code values.
 glm::dvec2 darkCentroid(const Image8& image, int* count = nullptr)
 {
@@ -145,18 +183,12 @@ glm::dvec2 darkCentroid(const Image8& image, int* count = nullptr)
 TEST(Shadows, AFloatingBoxShadowsTheGroundPhantomByTheLightsShare)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
-    prepare(renderer, 1.0f);
-    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
-    renderer.setLight(light(towardsLight, 2.0f));
-    const ModelId cube = renderer.addModel(makeCube());
-    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
-    const DrawItem items[] = {groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+    const ModelId cube = prepareFloatingBox(renderer);
+    const DrawItem items[] = {groundPhantom(cube), {cube, placed(floatingBoxCentre(), glm::dvec3(0.1)), -1}};
     const Image8 out = renderOverGrey(renderer, items);
 
-    // The umbra's middle: the box centre's shadow on the ground.
-    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
-    const double ratio = 1.0 - 2.0 * std::sin(kPi / 3.0) / kPi;
-    const double expected = kGrey * std::pow(ratio, 1.0 / 2.2);
+    const glm::dvec3 shadowCentre = floatingBoxShadowCentre();
+    const double expected = umbraCode();
     for (const glm::dvec3& offset : {glm::dvec3(0.0), glm::dvec3(0.02, 0.0, 0.0), glm::dvec3(0.0, 0.02, 0.0)})
         EXPECT_NEAR(code(out, pixelOf(shadowCentre + offset)), expected, 3.0)
             << "ground at " << offset.x << "," << offset.y;
@@ -239,19 +271,15 @@ TEST(Shadows, TranslucentCastersCastPartialShadows)
 // multiple of 4: quarter falls back to half, which must give half's image.)
 TEST(Shadows, EveryReceiverResolutionGivesTheSameShadow)
 {
-    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
-    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
-    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
-    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    const double expected = umbraCode();
+    const glm::dvec3 shadowCentre = floatingBoxShadowCentre();
     std::vector<Image8> images;
     for (int scale : {1, 2, 4}) {
         RenderOptions options = shadowsOn();
         options.shadows.receiverScale = scale;
         LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
-        prepare(renderer, 1.0f);
-        renderer.setLight(light(towardsLight, 2.0f));
-        const ModelId cube = renderer.addModel(makeCube());
-        const DrawItem items[] = {groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+        const ModelId cube = prepareFloatingBox(renderer);
+        const DrawItem items[] = {groundPhantom(cube), {cube, placed(floatingBoxCentre(), glm::dvec3(0.1)), -1}};
         images.push_back(renderOverGrey(renderer, items));
         EXPECT_NEAR(code(images.back(), pixelOf(shadowCentre)), expected, 3.0) << "scale " << scale;
     }
@@ -360,7 +388,7 @@ TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
         return glm::dvec2(cx + kFocal * c.x / c.z, cy + kFocal * c.y / c.z);
     };
     const glm::dvec3 towardsLight = worldDirection(60.0, 180.0); // from -x: shadows fall towards +x
-    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    const double expected = umbraCode();
     for (int scale : {1, 2, 4}) {
         RenderOptions options = shadowsOn();
         options.shadows.receiverScale = scale;
@@ -398,18 +426,14 @@ TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
 // umbra's value, not its square (128 -> 89, twice 62).
 TEST(Shadows, OverlappingPhantomSurfacesAreDarkenedOnce)
 {
-    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
-    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
-    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
-    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    const glm::dvec3 shadowCentre = floatingBoxShadowCentre();
+    const double expected = umbraCode();
     // Tops 2 cm above the ground: the umbra moves 1.2 cm towards the light on them.
     const glm::dvec3 onTop = shadowCentre + glm::dvec3(0.02 / std::tan(kPi / 3.0), 0.0, 0.02);
     for (const bool oneModel : {false, true}) {
         LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
-        prepare(renderer, 1.0f);
-        renderer.setLight(light(towardsLight, 2.0f));
-        const ModelId cube = renderer.addModel(makeCube());
-        std::vector<DrawItem> items{{cube, placed(boxCentre, glm::dvec3(0.1)), -1}};
+        const ModelId cube = prepareFloatingBox(renderer);
+        std::vector<DrawItem> items{{cube, placed(floatingBoxCentre(), glm::dvec3(0.1)), -1}};
         if (oneModel) {
             const auto quad = [](float half, float z) {
                 return test::makeQuad({glm::vec3(-half, -half, z), glm::vec3(half, -half, z), glm::vec3(half, half, z),
@@ -442,12 +466,9 @@ TEST(Shadows, OverlappingPhantomSurfacesAreDarkenedOnce)
 TEST(Shadows, TheApplyPassWritesThePhantomsDepthWhereItDarkens)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, shadowsOn());
-    prepare(renderer, 1.0f);
-    const glm::dvec3 towardsLight = worldDirection(60.0, 0.0);
-    renderer.setLight(light(towardsLight, 2.0f));
-    const ModelId cube = renderer.addModel(makeCube());
-    const glm::dvec3 boxCentre(0.0, 0.0, 0.3);
-    const glm::dvec3 shadowCentre = boxCentre - towardsLight * (boxCentre.z / towardsLight.z);
+    const ModelId cube = prepareFloatingBox(renderer);
+    const glm::dvec3 boxCentre = floatingBoxCentre();
+    const glm::dvec3 shadowCentre = floatingBoxShadowCentre();
     GltfMaterial white;
     white.baseColorFactor = glm::vec4(1.0f);
     const ModelId under =
@@ -456,7 +477,7 @@ TEST(Shadows, TheApplyPassWritesThePhantomsDepthWhereItDarkens)
                                          white));
     const glm::dmat4 belowGround =
         cameraFromWorld() * glm::translate(glm::dmat4(1.0), shadowCentre - glm::dvec3(0.0, 0.0, 0.05));
-    const double expected = kGrey * std::pow(1.0 - 2.0 * std::sin(kPi / 3.0) / kPi, 1.0 / 2.2);
+    const double expected = umbraCode();
     const DrawItem items[] = {
         groundPhantom(cube), {cube, placed(boxCentre, glm::dvec3(0.1)), -1}, {under, belowGround, -1}};
     const Image8 out = renderOverGrey(renderer, items);
