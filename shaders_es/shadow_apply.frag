@@ -14,11 +14,20 @@
 // (ShadowPass::applyCanWriteDepth), so it keeps every pixel (a discard would lose its depth)
 // and writes a ratio of exactly 1 where the darkening is 1: the blend leaves those pixels
 // exactly as they were.
+//
+// APPLY_ONE_SURFACE 1: the buffer holds one receiver alone, a convex phantom
+// (ShadowPass::applyOneSurface): its texels are all the pixel's own surface (continuous, within
+// the tolerance below) and the others hold no receiver, so the test of each texel's distance
+// (the pixel's own by a log2 and its derivatives, four decodes) is only whether it holds a
+// receiver. The same weights, for a fifth of the pass's shader work less.
 precision highp float;
 precision highp sampler2D;
 
 #ifndef APPLY_WRITES_DEPTH
 #define APPLY_WRITES_DEPTH 0
+#endif
+#ifndef APPLY_ONE_SURFACE
+#define APPLY_ONE_SURFACE 0
 #endif
 
 uniform sampler2D uRatio;      // r: the ratio; gb: the receiver's distance (receiver_distance.glsl)
@@ -49,6 +58,15 @@ void main()
     vec4 t01 = texelFetch(uRatio, ivec2(low.x, high.y), 0);
     vec4 t11 = texelFetch(uRatio, high, 0);
     vec4 ratios = vec4(t00.r, t10.r, t01.r, t11.r);
+    vec4 bilinear = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+#if APPLY_ONE_SURFACE
+    // No receiver: both distance channels 1 (kNoReceiverCode).
+    vec4 weights =
+        bilinear * vec4(lessThan(vec4(t00.g + t00.b, t10.g + t10.b, t01.g + t01.b, t11.g + t11.b), vec4(2.0)));
+    float sum = dot(weights, vec4(1.0));
+    // None: a sliver narrower than a texel, where the buffer holds no darkening.
+    float ratio = sum > 0.0 ? dot(weights, ratios) / sum : 1.0;
+#else
     // Before the discard: derivatives need the whole 2 x 2 quad.
     float own = distanceCode(vPosition);
     float slope = abs(dFdx(own)) + abs(dFdy(own));
@@ -62,7 +80,6 @@ void main()
     vec4 gaps = abs(vec4(decodeDistance(t00.gb), decodeDistance(t10.gb), decodeDistance(t01.gb),
                          decodeDistance(t11.gb)) - own);
     float tolerance = kSameSurfaceCodes + 2.0 * slope / uTexelsPerPixel;
-    vec4 bilinear = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
     vec4 weights = bilinear * vec4(lessThanEqual(gaps, vec4(tolerance)));
     float sum = dot(weights, vec4(1.0));
     float ratio;
@@ -74,6 +91,7 @@ void main()
         vec4 isNearest = vec4(equal(gaps, vec4(nearest)));
         ratio = dot(isNearest, ratios) / dot(isNearest, vec4(1.0));
     }
+#endif
 #if APPLY_WRITES_DEPTH
     ratio = min(ratio, 1.0); // four ratios of 1 give 1 exactly (a sum over itself)
 #else

@@ -284,12 +284,13 @@ void ShadowPass::linkReceiverPrograms()
 
 void ShadowPass::linkApplyPrograms()
 {
-    if (applyPrograms_[1].program)
+    if (applyPrograms_[2].program)
         return;
-    for (int writesDepth = 0; writesDepth < 2; ++writesDepth) {
-        ApplyProgram& apply = applyPrograms_[writesDepth];
-        apply.program = linkProgram(kShadowApplyProgram,
-                                    writesDepth ? "#define APPLY_WRITES_DEPTH 1\n" : "#define APPLY_WRITES_DEPTH 0\n");
+    const char* const defines[3] = {"#define APPLY_WRITES_DEPTH 0\n", "#define APPLY_WRITES_DEPTH 1\n",
+                                    "#define APPLY_WRITES_DEPTH 1\n#define APPLY_ONE_SURFACE 1\n"};
+    for (int variant = 0; variant < 3; ++variant) {
+        ApplyProgram& apply = applyPrograms_[variant];
+        apply.program = linkProgram(kShadowApplyProgram, defines[variant]);
         apply.cameraFromMesh = uniformLocation(apply.program, "uCameraFromMesh");
         apply.normalFromMesh = glGetUniformLocation(apply.program.name(), "uNormalFromMesh");
         apply.texelsPerPixel = uniformLocation(apply.program, "uTexelsPerPixel");
@@ -317,6 +318,12 @@ bool ShadowPass::applyCanWriteDepth(const std::vector<GpuModel>& models, std::sp
         if (model.materials[primitive.material].doubleSided)
             return false;
     return model.convex;
+}
+
+bool ShadowPass::applyOneSurface(const std::vector<GpuModel>& models, std::span<const DrawItem> items)
+{
+    return applyCanWriteDepth(models, items) &&
+           std::none_of(items.begin(), items.end(), [](const DrawItem& i) { return i.phantom && i.receiverOnly; });
 }
 
 void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
@@ -877,7 +884,7 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
         return ReceiverProgram{&program.program, program.cameraFromMesh, program.normalFromMesh, false};
     };
     const ReceiverProgram apply = applyWith(applyPrograms_[0]);
-    const ReceiverProgram applyWritingDepth = applyWith(applyPrograms_[1]);
+    const ReceiverProgram applyWritingDepth = applyWith(applyPrograms_[applyOneSurface(models, items) ? 2 : 1]);
     // receiverOnly: which items; culling: whether single-sided materials hide back faces.
     const auto drawItems = [&](bool receiverOnly, bool culling, const ReceiverProgram& with) {
         glUseProgram(with.program->name());

@@ -232,20 +232,24 @@ private:
     // shadow_apply.frag: [0] over the phantoms' depth (GL_EQUAL) and the receiver-only
     // surfaces, leaving the pixels it does not darken alone (discard); [1] (APPLY_WRITES_DEPTH)
     // writing the phantom's depth as it applies, every pixel (a ratio of 1 where it darkens
-    // nothing: the blend leaves the pixel exactly as it was).
+    // nothing: the blend leaves the pixel exactly as it was); [2] that (APPLY_ONE_SURFACE),
+    // where the phantom is the buffer's one receiver (applyOneSurface).
     struct ApplyProgram {
         GlProgram program;
         GLint cameraFromMesh = -1;
         GLint normalFromMesh = -1;
         GLint texelsPerPixel = -1;
     };
-    ApplyProgram applyPrograms_[2];
+    ApplyProgram applyPrograms_[3];
     // Whether the apply pass can write the phantoms' depth itself (GL_LESS, one pass instead
     // of a depth pass and a GL_EQUAL one): exactly where each pixel meets at most one phantom
     // fragment, or the farther one would be darkened too and the nearer one over it. So: one
     // phantom (not receiver-only) among `items`, single-sided (back faces culled), not posed
     // (its vertices stay), and convex (GpuModel::convex).
     [[nodiscard]] static bool applyCanWriteDepth(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
+    // applyCanWriteDepth, and no receiver-only surface: the darkening buffer's texels hold
+    // that phantom or no receiver, and the apply pass needs no distances to tell its own.
+    [[nodiscard]] static bool applyOneSurface(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
 };
 
 } // namespace lumar

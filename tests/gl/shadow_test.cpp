@@ -418,6 +418,61 @@ TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
     }
 }
 
+// Where the phantom is the darkening buffer's one receiver (one convex phantom, no
+// receiver-only surface), the apply pass tells the pixel's own texels by whether they hold a
+// receiver instead of by their distance (shadow_apply.frag's APPLY_ONE_SURFACE): at quarter
+// resolution, with a phantom slab whose edge runs through the floating box's umbra, the frame
+// equals the one drawn with a receiver-only quad out of view added, which takes the general
+// filter (+-1), and the slab's last pixels in the umbra keep its value (a plain bilinear
+// filter would take the ratio of 1 of the texels beside the slab and lighten them).
+TEST(Shadows, TheOneSurfaceApplyEqualsTheDistanceAwareFilter)
+{
+    constexpr int width = 240, height = 160; // quarter stays quarter
+    constexpr double cx = 119.5, cy = 79.5;
+    const CameraIntrinsics k = test::makeIntrinsics(width, height, kFocal, kFocal, cx, cy);
+    const auto pixelAt = [&](const glm::dvec3& p) {
+        const glm::dvec3 c(cameraFromWorld() * glm::dvec4(p, 1.0));
+        return glm::dvec2(cx + kFocal * c.x / c.z, cy + kFocal * c.y / c.z);
+    };
+    const glm::dvec3 shadowCentre = floatingBoxShadowCentre();
+    // The slab's right edge 1.3 cm past the umbra's centre (off the texels' edges).
+    const double edge = shadowCentre.x + 0.013;
+    std::vector<Image8> images;
+    for (bool general : {false, true}) {
+        RenderOptions options = shadowsOn();
+        options.shadows.receiverScale = 4;
+        LUMAR_RENDERER_OR_SKIP(renderer, width, height, options);
+        const ModelId cube = prepareFloatingBox(renderer);
+        std::vector<DrawItem> items = {{cube, placed({edge - 0.3, 0.0, -0.01}, {0.6, 0.6, 0.02}), -1, true},
+                                       {cube, placed(floatingBoxCentre(), glm::dvec3(0.1)), -1}};
+        if (general) {
+            const ModelId plane = renderer.addModel(groundQuad());
+            items.push_back({plane, cameraFromWorld() * glm::translate(glm::dmat4(1.0), glm::dvec3(5.0, 0.0, 0.0)), -1,
+                             true, true});
+        }
+        renderer.render(test::solidImage(width, height, kGrey, kGrey, kGrey), k, items);
+        images.emplace_back();
+        renderer.readback(images.back());
+    }
+    int darkened = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                darkened += c == 1 && images[1].at(x, y)[c] < kGrey - 10;
+                ASSERT_NEAR(images[0].at(x, y)[c], images[1].at(x, y)[c], 1) << "at " << x << "," << y;
+            }
+    EXPECT_GT(darkened, 200);
+    const int last = int(std::floor(pixelAt({edge, 0.0, 0.0}).x)); // the slab's last column
+    const int rowLow = int(std::lround(pixelAt({0.0, 0.03, 0.0}).y));
+    const int rowHigh = int(std::lround(pixelAt({0.0, -0.03, 0.0}).y));
+    for (int y = rowLow; y <= rowHigh; ++y) {
+        for (int x = last - 6; x <= last; ++x)
+            ASSERT_NEAR(images[0].at(x, y)[1], umbraCode(), 3.0) << "slab at " << x << "," << y;
+        for (int x = last + 2; x < last + 8; ++x)
+            ASSERT_NEAR(images[0].at(x, y)[1], kGrey, 1) << "beside the slab at " << x << "," << y;
+    }
+}
+
 // The apply pass writes a phantom's depth itself (GL_LESS) only where each pixel meets one
 // phantom fragment (ShadowPass::applyCanWriteDepth); elsewhere it darkens only the nearest
 // surface (GL_EQUAL against a depth pass). In the floating box's umbra (as above), a second
