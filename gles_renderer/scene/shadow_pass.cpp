@@ -340,8 +340,9 @@ void ShadowPass::prepareRatioBuffer(int frameWidth, int frameHeight)
     buffer.frameHeight = frameHeight;
     buffer.scale = scale;
     const int width = frameWidth / scale, height = frameHeight / scale;
-    // r: the ratio; gb: the receiver's distance (receiver_distance.glsl), read texel by texel.
-    buffer.colour = makeRenderTexture(GL_RGBA8, width, height, GL_NEAREST);
+    // RatioBuffer's channels. GL_LINEAR for APPLY_ONE_SURFACE's one filtered lookup (the
+    // general filter reads texel by texel: texelFetch ignores it).
+    buffer.colour = makeRenderTexture(GL_RGBA8, width, height, GL_LINEAR);
     glBindTexture(GL_TEXTURE_2D, 0);
     buffer.depth = GlRenderbuffer::create();
     glBindRenderbuffer(GL_RENDERBUFFER, buffer.depth.name());
@@ -921,17 +922,18 @@ void ShadowPass::drawReceivers(const FrameUniforms& frame, const std::vector<Gpu
     // 2. The darkening, into the ratio buffer: the phantoms' depth again at its resolution (a
     //    program with the same vertex shader, whose gl_Position is declared invariant: the
     //    shading below meets exactly these depths), with every receiver's distance into the
-    //    green and blue channels (the receiver-only surfaces' where no phantom is in front),
+    //    green and blue channels (the receiver-only surfaces' where no phantom is in front)
+    //    and 1 into red and alpha (a receiver is there; RatioBuffer),
     //    then the shading into red, only where something can darken, once per rectangle of a
     //    disjoint cover of those places: elsewhere the ratio is exactly 1. (A table phantom
     //    fills most of the frame, the shadows and contacts a part of it.)
     glBindFramebuffer(GL_FRAMEBUFFER, ratio_.framebuffer.name());
     glViewport(0, 0, ratio_.frameWidth / ratio_.scale, ratio_.frameHeight / ratio_.scale);
-    const GLfloat one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-    glClearBufferfv(GL_COLOR, 0, one);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    const GLfloat noReceiver[4] = {0.0f, 1.0f, 1.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, noReceiver);
     const GLfloat far = 1.0f;
     glClearBufferfv(GL_DEPTH, 0, &far);
-    glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_FALSE);
     drawItems(false, true, distance);
     glDepthMask(GL_FALSE);
     drawItems(true, false, distance);

@@ -419,12 +419,13 @@ TEST(Shadows, TheUpsampledDarkeningKeepsToItsSurfaceAtADepthEdge)
 }
 
 // Where the phantom is the darkening buffer's one receiver (one convex phantom, no
-// receiver-only surface), the apply pass tells the pixel's own texels by whether they hold a
-// receiver instead of by their distance (shadow_apply.frag's APPLY_ONE_SURFACE): at quarter
-// resolution, with a phantom slab whose edge runs through the floating box's umbra, the frame
-// equals the one drawn with a receiver-only quad out of view added, which takes the general
-// filter (+-1), and the slab's last pixels in the umbra keep its value (a plain bilinear
-// filter would take the ratio of 1 of the texels beside the slab and lighten them).
+// receiver-only surface), the apply pass weighs the texels by whether they hold a receiver
+// instead of by their distance, in one filtered lookup of the ratio premultiplied by that
+// coverage (shadow_apply.frag's APPLY_ONE_SURFACE): at quarter resolution, with a phantom slab
+// whose edge runs through the floating box's umbra, the frame equals the one drawn with a
+// receiver-only quad out of view added, which takes the general filter (+-1: the filtered
+// lookup rounds once more), and the slab's last pixels in the umbra keep its value (a plain
+// bilinear filter would take the ratio of 1 of the texels beside the slab and lighten them).
 TEST(Shadows, TheOneSurfaceApplyEqualsTheDistanceAwareFilter)
 {
     constexpr int width = 240, height = 160; // quarter stays quarter
