@@ -69,7 +69,7 @@ void main()
     vec4 t01 = texelFetch(uRatio, ivec2(low.x, high.y), 0);
     vec4 t11 = texelFetch(uRatio, high, 0);
     // A texel without a receiver holds red 0 and alpha 0: its ratio is 1.
-    vec4 ratios = vec4(t00.r, t10.r, t01.r, t11.r) + 1.0 - vec4(t00.a, t10.a, t01.a, t11.a);
+    vec4 ratios = vec4(t00.r, t10.r, t01.r, t11.r) + (1.0 - vec4(t00.a, t10.a, t01.a, t11.a)); // exact
     vec4 bilinear = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
     // Before the discard: derivatives need the whole 2 x 2 quad.
     float own = distanceCode(vPosition);
