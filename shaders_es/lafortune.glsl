@@ -7,6 +7,19 @@ const float PI = 3.14159265358979;
 // so the four maps sit at s = 0 (diffuse, n = 1), 1/4 (n = 8), 1/2 (n = 64) and 1 (mirror).
 const float kLog2MirrorExponent = 12.0;
 
+// glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h, the
+// CPU twin): a Phong lobe (C = -1, -1, 1) whose exponent follows the roughness, rho_s the
+// dielectric's reflectance at normal incidence blended towards the base colour by metalness.
+const float kMaxExponent = 4096.0;
+const float kDielectricSpecular = 0.04;
+
+// The Phong exponent of a glTF roughness (alpha = roughness^2, n = 2 / alpha^2 - 2).
+float phongExponentFromRoughness(float roughness)
+{
+    float alpha = max(roughness * roughness, 1e-4);
+    return clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
+}
+
 // The tangent turned about the normal by angle a * pi (a from the tangent-rotation map;
 // pi is enough: the lobe is symmetric under T -> -T).
 vec3 rotateTangent(vec3 t, vec3 n, float a)

@@ -139,9 +139,6 @@ layout(location = 1) out vec4 fragRadiance;
 #include "shadow.glsl"
 #include "normal_map_transform.glsl"
 
-// glTF metallic-roughness as Lafortune parameters (gles_renderer/lafortune_material.h).
-const float kMaxExponent = 4096.0;
-const float kDielectricSpecular = 0.04;
 // The least share of the environment's diffuse light a shadow leaves (a configured light may
 // claim more of the light than the environment map holds).
 const float kShadowFloor = 0.1;
@@ -304,8 +301,7 @@ void main()
         rhoS = mix(vec3(HAS_TRANSMISSION ? transmission.z : kDielectricSpecular), colour, metallic);
         dielectric = 1.0 - metallic;
         lobe = vec3(-1.0, -1.0, 1.0);
-        float alpha = max(roughness * roughness, 1e-4);
-        exponent = clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
+        exponent = phongExponentFromRoughness(roughness);
         rotation = 0.0;
     }
     // Towards B (mirrored uvs and mirrored cube-face frames turn the other way round). A

@@ -55,9 +55,6 @@ out vec3 vConfiguredBack;  // and of the back (double-sided phantoms), normal re
 #include "cube_atlas.glsl"
 #include "rgbm.glsl"
 
-const float kMaxExponent = 4096.0;
-const float kDielectricSpecular = 0.04;
-
 // Level 0 of an atlas (one slot) at `hit`, as cubeAtlasUv(d, cubeAtlasSize(map), 0.0) gives it.
 vec3 mapRadiance(sampler2D map, CubeFaceHit hit)
 {
@@ -90,11 +87,10 @@ vec3 configuredRadiance(vec3 n, vec3 v)
         exponent = max(lobeFactor.w, 1.0);
     } else {
         float metallic = clamp(metallicRoughness.x, 0.0, 1.0);
-        float alpha = max(metallicRoughness.y * metallicRoughness.y, 1e-4);
         rhoD = baseColorFactor.rgb * (1.0 - metallic);
         rhoS = mix(vec3(kDielectricSpecular), baseColorFactor.rgb, metallic);
         lobe = vec3(-1.0, -1.0, 1.0);
-        exponent = clamp(2.0 / (alpha * alpha) - 2.0, 1.0, kMaxExponent);
+        exponent = phongExponentFromRoughness(metallicRoughness.y);
     }
     LafortuneShade shade = lafortuneShade(v, t, b, n, lobe, exponent, rhoS, metallicRoughness.w);
     return rhoD * mapRadiance(uDiffuseMap, cubeFaceHit(environmentFromCamera * n)) +
