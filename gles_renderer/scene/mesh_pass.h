@@ -1,5 +1,14 @@
 // The models, depth-tested and shaded by mesh.vert / mesh.frag with each item's own four
 // environment maps: pass 2 of a frame, and the other objects inside a cube-map face.
+//
+// Forward, not deferred. llvmpipe shades a 4 x 4 block once for every triangle that touches
+// it, so most of the car's shading scales with its triangles' edges, not its pixels (car.toml,
+// shading CPU above a constant-colour shader's: 9.6, 23.5 and 63 ms at 640x360, 1280x720 and
+// 2560x1440, which fit ~60 % edges at 1280x720). Deferred shading was measured (a surface
+// buffer of position, normal, tangent and uvs, then one stencil-tested pass per material over
+// its screen bounds) and lost: writing the buffer alone cost 10.7-14 ms against 6 ms for a
+// constant-colour forward pass, the materials' passes 16.5 ms, 28.5 ms in all against 25.7
+// forward, and 64 MB more resident.
 #pragma once
 
 #include <cstddef>
