@@ -1,5 +1,7 @@
 #include "gles_renderer/gl/egl_context.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <mutex>
 #include <utility>
 #include <vector>
@@ -90,6 +92,33 @@ std::string queryDrmDeviceFile(EGLDisplay display, std::string_view clientExtens
 std::mutex sharedDisplayMutex;
 std::weak_ptr<EglDisplay> sharedDisplay;
 
+// The EGL devices in eglQueryDevicesEXT's order (none where EGL cannot enumerate them).
+std::vector<EGLDeviceEXT> eglDevices()
+{
+    const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const std::string_view client = clientExtensions ? clientExtensions : "";
+    const auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    if (!queryDevices ||
+        !(extensionListHas(client, "EGL_EXT_device_enumeration") || extensionListHas(client, "EGL_EXT_device_base")))
+        return {};
+    EGLint count = 0;
+    if (!queryDevices(0, nullptr, &count) || count <= 0)
+        return {};
+    std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));
+    if (!queryDevices(count, devices.data(), &count))
+        return {};
+    devices.resize(size_t(std::max(count, 0)));
+    return devices;
+}
+
+std::string deviceExtensionString(EGLDeviceEXT device)
+{
+    const auto queryString =
+        reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    const char* extensions = queryString ? queryString(device, EGL_EXTENSIONS) : nullptr;
+    return extensions ? extensions : "";
+}
+
 } // namespace
 
 std::shared_ptr<EglDisplay> EglDisplay::surfaceless()
@@ -97,9 +126,50 @@ std::shared_ptr<EglDisplay> EglDisplay::surfaceless()
     const std::lock_guard lock(sharedDisplayMutex);
     if (auto existing = sharedDisplay.lock())
         return existing;
-    auto display = initialise(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "surfaceless");
+    std::shared_ptr<EglDisplay> display;
+    const char* forced = std::getenv("LUMAR_EGL_PLATFORM");
+    const std::string_view choice = forced ? forced : "";
+    if (choice == "surfaceless")
+        display = initialise(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "surfaceless");
+    else if (choice == "device")
+        display = device(0);
+    else if (!choice.empty())
+        throw RuntimeError("LUMAR_EGL_PLATFORM must be surfaceless or device, not \"" + std::string(choice) + "\"");
+    else {
+        const std::vector<std::string> devices = deviceExtensions();
+        for (size_t i = 0; i < devices.size() && !display; ++i) {
+            if (extensionListHas(devices[i], "EGL_MESA_device_software"))
+                continue;
+            try {
+                auto candidate = device(int(i));
+                if (candidate->hasExtension("EGL_KHR_surfaceless_context"))
+                    display = std::move(candidate);
+            } catch (const RuntimeError& e) {
+                LUMAR_LOG(Render, Warn) << "EGL device " << i << " left out: " << e.what();
+            }
+        }
+        if (!display)
+            display = initialise(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "surfaceless");
+    }
     sharedDisplay = display;
     return display;
+}
+
+std::vector<std::string> EglDisplay::deviceExtensions()
+{
+    std::vector<std::string> extensions;
+    for (const EGLDeviceEXT device : eglDevices())
+        extensions.push_back(deviceExtensionString(device));
+    return extensions;
+}
+
+std::shared_ptr<EglDisplay> EglDisplay::device(int index)
+{
+    const std::vector<EGLDeviceEXT> devices = eglDevices();
+    if (index < 0 || size_t(index) >= devices.size())
+        throw RuntimeError("no EGL device " + std::to_string(index) + " (EGL lists " + std::to_string(devices.size()) +
+                           ")");
+    return initialise(EGL_PLATFORM_DEVICE_EXT, devices[size_t(index)], "device");
 }
 
 std::shared_ptr<EglDisplay> EglDisplay::gbm(void* gbmDevice)
@@ -125,6 +195,7 @@ std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativ
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     const bool platformKnown =
         platform == EGL_PLATFORM_SURFACELESS_MESA ? extensionListHas(client, "EGL_MESA_platform_surfaceless")
+        : platform == EGL_PLATFORM_DEVICE_EXT     ? extensionListHas(client, "EGL_EXT_platform_device")
         : platform == EGL_PLATFORM_X11_KHR
             ? extensionListHas(client, "EGL_KHR_platform_x11") || extensionListHas(client, "EGL_EXT_platform_x11")
         : platform == EGL_PLATFORM_WAYLAND_KHR
@@ -152,13 +223,14 @@ std::shared_ptr<EglDisplay> EglDisplay::initialise(EGLenum platform, void* nativ
     display->extensions_ = extensions ? extensions : "";
     display->driverName_ = queryDriverName(display->display_, display->extensions_);
     display->drmDeviceFile_ = queryDrmDeviceFile(display->display_, client);
+    display->platformName_ = what;
     return display;
 }
 
 EglDisplay::EglDisplay(EglDisplay&& other) noexcept
     : display_(std::exchange(other.display_, EGL_NO_DISPLAY)), windowConfig_(other.windowConfig_), major_(other.major_),
       minor_(other.minor_), extensions_(std::move(other.extensions_)), driverName_(std::move(other.driverName_)),
-      drmDeviceFile_(std::move(other.drmDeviceFile_))
+      drmDeviceFile_(std::move(other.drmDeviceFile_)), platformName_(std::move(other.platformName_))
 {
 }
 
@@ -173,6 +245,7 @@ EglDisplay& EglDisplay::operator=(EglDisplay&& other) noexcept
         extensions_ = std::move(other.extensions_);
         driverName_ = std::move(other.driverName_);
         drmDeviceFile_ = std::move(other.drmDeviceFile_);
+        platformName_ = std::move(other.platformName_);
     }
     return *this;
 }

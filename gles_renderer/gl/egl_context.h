@@ -1,6 +1,7 @@
-// OpenGL ES 3 contexts on EGL: Mesa's surfaceless platform for headless output (no window,
-// no surface: the renderer draws into its own framebuffer objects), or the GBM platform with
-// one window surface for a KMS display (the finished frame is copied into it and flipped).
+// OpenGL ES 3 contexts on EGL: a headless display for output without a window (no surface:
+// the renderer draws into its own framebuffer objects) on a GPU's EGL device or Mesa's
+// surfaceless platform, or the GBM platform with one window surface for a KMS display (the
+// finished frame is copied into it and flipped).
 #pragma once
 
 #include <cstdint>
@@ -8,18 +9,33 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <EGL/egl.h>
 
 namespace lumar {
 
-// An initialised EGLDisplay on the surfaceless platform. eglTerminate does not count
-// references, so every context in the process shares one instance (see surfaceless()).
+// An initialised EGLDisplay. eglTerminate does not count references, so every headless
+// context in the process shares one instance (see surfaceless()).
 class EglDisplay {
 public:
-    // The process' surfaceless display, initialised on first use and terminated when the
-    // last holder lets go. Throws RuntimeError when the platform is missing.
+    // The process' headless display, initialised on first use and terminated when the last
+    // holder lets go. Where EGL lists a hardware device (EGL_EXT_platform_device, a device
+    // that is not EGL_MESA_device_software) that has surfaceless contexts, on that device:
+    // NVIDIA's driver, for one, has no surfaceless platform, and through libglvnd Mesa's
+    // surfaceless platform would draw with llvmpipe beside the GPU. Else Mesa's surfaceless
+    // platform (its GPU driver, or llvmpipe without one). The environment variable
+    // LUMAR_EGL_PLATFORM=surfaceless or =device forces either (device: the first device,
+    // software ones too). Throws RuntimeError when the platform is missing or the variable
+    // names another.
     static std::shared_ptr<EglDisplay> surfaceless();
+    // A display on EGL device `index` (eglQueryDevicesEXT's order) of the EGL_EXT_platform_device
+    // platform. Not shared; for tests and tools that pick a device. Throws RuntimeError when
+    // there is no such device or platform.
+    static std::shared_ptr<EglDisplay> device(int index);
+    // The EGL devices' extension strings (eglQueryDeviceStringEXT), in eglQueryDevicesEXT's
+    // order; empty where EGL cannot enumerate devices.
+    [[nodiscard]] static std::vector<std::string> deviceExtensions();
     // A display on the GBM platform of `gbmDevice` (a struct gbm_device*), for window
     // surfaces that KMS scans out. Not shared: it lives as long as its holders, who must let
     // go before the GBM device is destroyed. Throws RuntimeError.
@@ -47,6 +63,8 @@ public:
     // EGL_EXT_device_drm, e.g. "/dev/dri/card1"); empty for a device without one (plain
     // swrast) or where EGL does not say.
     [[nodiscard]] const std::string& drmDeviceFile() const { return drmDeviceFile_; }
+    // The platform it was made on: "surfaceless", "device", "GBM", "X11" or "Wayland".
+    [[nodiscard]] const std::string& platformName() const { return platformName_; }
     [[nodiscard]] int majorVersion() const { return major_; }
     [[nodiscard]] int minorVersion() const { return minor_; }
     // GBM displays: the ES 3 window config whose native visual is the scan-out format (set by
@@ -67,6 +85,7 @@ private:
     std::string extensions_;
     std::string driverName_;
     std::string drmDeviceFile_;
+    std::string platformName_;
 };
 
 // The window config for a surface the renderer presents into (a KMS scan-out buffer, a

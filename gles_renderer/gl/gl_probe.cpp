@@ -57,6 +57,7 @@ GlInfo probeGl()
     }
     for (const char* name : kGlExtensions)
         info.glExtensions.emplace_back(name, hasGlExtension(name));
+    info.eglPlatform = display->platformName();
     info.driverName = display->driverName();
     info.drmDevice = display->drmDeviceFile();
     info.cameraImport = dmabufImportUnavailableReason(*display);

@@ -10,6 +10,7 @@ namespace lumar {
 
 struct GlInfo {
     std::string eglVendor, eglVersion, eglClientApis;
+    std::string eglPlatform; // the headless display's: "device" (a GPU's EGL device) or "surfaceless"
     std::string glVersion, glRenderer, glslVersion;
     std::string driverName;                                  // the DRI driver (EGL_MESA_query_driver), empty if unknown
     std::string drmDevice;                                   // the DRM node it renders with, empty for none or unknown
