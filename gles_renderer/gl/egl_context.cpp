@@ -141,8 +141,12 @@ std::shared_ptr<EglDisplay> EglDisplay::surfaceless()
             if (extensionListHas(devices[i], "EGL_MESA_device_software"))
                 continue;
             try {
+                // Mesa's devices are what its surfaceless platform draws with anyway: that
+                // platform stays theirs, as tested on every board.
                 auto candidate = device(int(i));
-                if (candidate->hasExtension("EGL_KHR_surfaceless_context"))
+                const char* vendor = eglQueryString(candidate->handle(), EGL_VENDOR);
+                const bool mesa = vendor && std::string_view(vendor).find("Mesa") != std::string_view::npos;
+                if (!mesa && candidate->hasExtension("EGL_KHR_surfaceless_context"))
                     display = std::move(candidate);
             } catch (const RuntimeError& e) {
                 LUMAR_LOG(Render, Warn) << "EGL device " << i << " left out: " << e.what();

@@ -20,11 +20,11 @@ namespace lumar {
 class EglDisplay {
 public:
     // The process' headless display, initialised on first use and terminated when the last
-    // holder lets go. Where EGL lists a hardware device (EGL_EXT_platform_device, a device
-    // that is not EGL_MESA_device_software) that has surfaceless contexts, on that device:
-    // NVIDIA's driver, for one, has no surfaceless platform, and through libglvnd Mesa's
-    // surfaceless platform would draw with llvmpipe beside the GPU. Else Mesa's surfaceless
-    // platform (its GPU driver, or llvmpipe without one). The environment variable
+    // holder lets go. Where EGL lists a hardware device of another vendor than Mesa
+    // (EGL_EXT_platform_device) that has surfaceless contexts, on that device: NVIDIA's
+    // driver, for one, has no surfaceless platform, and through libglvnd Mesa's surfaceless
+    // platform would draw with llvmpipe beside the GPU. Else Mesa's surfaceless platform (its
+    // GPU driver, or llvmpipe without one), as always. The environment variable
     // LUMAR_EGL_PLATFORM=surfaceless or =device forces either (device: the first device,
     // software ones too). Throws RuntimeError when the platform is missing or the variable
     // names another.

@@ -63,7 +63,7 @@ TEST(EglDevice, TheSoftwareDeviceRendersWhatTheSurfacelessPlatformRenders)
     EXPECT_NE(onDevice.data[centre + 2], 160);
 }
 
-// Without a hardware device the default stays Mesa's surfaceless platform (CI: llvmpipe alone).
+// Without another vendor's device the default stays Mesa's surfaceless platform (CI: llvmpipe).
 TEST(EglDevice, WithoutAHardwareDeviceTheHeadlessDisplayIsSurfaceless)
 {
     const std::vector<std::string> devices = EglDisplay::deviceExtensions();
