@@ -13,6 +13,7 @@
 
 #include "capture/colour_conversion.h"
 #include "capture/convex_polygon.h"
+#include "capture/cube_texels.h"
 #include "capture/environment_cube.h"
 #include "capture/fake_objects.h"
 #include "capture/fake_scene_shading.h"
@@ -248,8 +249,10 @@ struct FakeCamera::Impl {
         double exposure = 1.0;
         PackedBuffer ownTable;
         const fake_scene::PackedRgb* table = nullptr; // the lit table texels
-        // The environment cube's texels (environment), or the floor levels (room).
+        // Room: the floor levels.
         PackedBuffer background;
+        // Environment: the environment cube's texels, baked as frames first look at them.
+        std::optional<CubeTexels> cubeTexels;
         // Room: code value -> code value at this exposure; identity at 1.
         std::array<uint8_t, 256> remap{};
         bool remapIsIdentity = true;
@@ -407,7 +410,7 @@ struct FakeCamera::Impl {
         for (const TagSurface& tag : tags) {
             out->litTags.push_back(lightTag(tag, e));
         }
-        out->background = cube->bake(e, encoder);
+        out->cubeTexels.emplace(*cube, e, encoder);
         out->ownTable = lightTable(e);
         out->table = out->ownTable.get();
         return out;
@@ -627,7 +630,7 @@ struct FakeCamera::Impl {
         using namespace fake_scene;
         if (dz >= 0.0f) {
             if constexpr (kEnvironment) {
-                return ex.background[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
+                return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
             } else {
                 return ex.remapped(packRgb(wallColour(dz / std::sqrt(dx * dx + dy * dy + dz * dz))));
             }
@@ -670,7 +673,7 @@ struct FakeCamera::Impl {
             return ex.table[tableTexelIndex(x, y)];
         }
         if constexpr (kEnvironment) {
-            return ex.background[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
+            return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
         } else {
             // Past the table's edge the ray goes on down to the floor, or to a wall far away.
             const float sf = (kFloorZ - eye.z) / dz;
@@ -698,6 +701,23 @@ struct FakeCamera::Impl {
             const CameraIntrinsics& k = *intrinsics;
             return glm::vec3(worldFromCamera[1] * ((v - k.cy) / k.fy) + worldFromCamera[2] -
                              worldFromCamera[0] * (k.cx / k.fx));
+        }
+
+        // Every direction a ray of a width × height frame may take: the rays run from pixel
+        // centre -0.25 to width - 0.75 (kSampleOffsets), and a margin of pixels covers the
+        // rounding of their float directions many times over.
+        [[nodiscard]] ViewCone view(int width, int height) const
+        {
+            constexpr double kMargin = 2.0;
+            const double u0 = -kMargin;
+            const double u1 = double(width - 1) + kMargin;
+            const double v0 = -kMargin;
+            const double v1 = double(height - 1) + kMargin;
+            const auto direction = [&](double u, double v) {
+                const CameraIntrinsics& k = *intrinsics;
+                return glm::vec3(worldFromCamera * glm::dvec3((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0));
+            };
+            return ViewCone::spannedBy({direction(u0, v0), direction(u1, v0), direction(u1, v1), direction(u0, v1)});
         }
     };
 
@@ -770,7 +790,7 @@ struct FakeCamera::Impl {
         }
         SplitMix64 rng = SensorNoise::rowGenerator(config.seed, sequence, y);
         const fake_scene::PackedRgb* texels = ex.table;
-        const fake_scene::PackedRgb* background = ex.background.get();
+        const fake_scene::PackedRgb* background = kEnvironment ? ex.cubeTexels->texels() : ex.background.get();
         RayChunk chunks[kSamplesPerAxis];
         for (int x0 = 0; x0 < config.width; x0 += kChunkPixels) {
             for (int sy = 0; sy < kSamplesPerAxis; ++sy) {
@@ -907,6 +927,9 @@ void FakeCamera::render(uint64_t sequence, Frame& frame) const
     rays.intrinsics = &k;
     rays.stepU = glm::vec3(worldFromCamera[0] / k.fx);
     rays.objectOutlines = s.objectOutlines(cameraPose);
+    if (s.environment) {
+        exposed->cubeTexels->prepare(rays.view(s.config.width, s.config.height));
+    }
     std::array<std::vector<ScreenSpan>, kSamplesPerAxis> spans;
     for (int y = 0; y < s.config.height; ++y) {
         if (s.environment) {
