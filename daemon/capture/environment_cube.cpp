@@ -74,20 +74,6 @@ int EnvironmentCube::log2SizeFor(double fx)
     return log2;
 }
 
-ViewCone ViewCone::spannedBy(const std::array<glm::vec3, 4>& corners)
-{
-    glm::vec3 inside(0.0f);
-    for (const glm::vec3& c : corners) {
-        inside += glm::normalize(c);
-    }
-    ViewCone view;
-    for (size_t k = 0; k < 4; ++k) {
-        const glm::vec3 n = glm::normalize(glm::cross(corners[k], corners[(k + 1) % 4]));
-        view.inward[k] = glm::dot(n, inside) < 0.0f ? -n : n;
-    }
-    return view;
-}
-
 EnvironmentCube::EnvironmentCube(ImageF equirect, int log2Size)
     : equirect_(std::move(equirect)), log2Size_(std::clamp(log2Size, kMinLog2Size, kMaxLog2Size)),
       size_(1 << log2Size_), environmentFromWorld_(environmentFromMarker())

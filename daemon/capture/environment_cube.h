@@ -8,7 +8,7 @@
 // other two coordinates (in x, y, z order) divided by the major one, over [-1, 1].
 //
 // Texels are stored in square tiles of 32² (4 KiB, one page each), so that the texels a camera
-// never looks at need not be baked nor held (CubeTexels): the fake camera's orbit sees 7 % of
+// never looks at need not be baked nor held (LazyTexels): the fake camera's orbit sees 7 % of
 // its 1024² cube over a whole period (2 % in the bench's first 45 frames), so baking it all
 // held 24 MiB where 1.6 MiB are read (issue 18: memory).
 #pragma once
@@ -24,19 +24,10 @@
 #include "capture/fake_scene_shading.h"
 #include "capture/packed_buffer.h"
 #include "capture/srgb_encoding.h"
+#include "capture/view_cone.h"
 #include "core/image.h"
 
 namespace lumar {
-
-// Where a frame's rays may point: the convex cone spanned by four directions, given by the
-// inward unit normals of its four sides.
-struct ViewCone {
-    std::array<glm::vec3, 4> inward{};
-
-    // The cone spanned by `corners`, four directions in order around it (either winding),
-    // spanning less than a half-space.
-    static ViewCone spannedBy(const std::array<glm::vec3, 4>& corners);
-};
 
 class EnvironmentCube {
 public:

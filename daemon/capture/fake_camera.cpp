@@ -13,11 +13,11 @@
 
 #include "capture/colour_conversion.h"
 #include "capture/convex_polygon.h"
-#include "capture/cube_texels.h"
 #include "capture/environment_cube.h"
 #include "capture/fake_objects.h"
 #include "capture/fake_scene_shading.h"
 #include "capture/fake_trajectory.h"
+#include "capture/lazy_texels.h"
 #include "capture/packed_buffer.h"
 #include "capture/sensor_noise.h"
 #include "capture/srgb_encoding.h"
@@ -232,13 +232,20 @@ uint8_t toByte(float v)
     return uint8_t(i < 0 ? 0 : (i > 255 ? 255 : i));
 }
 
+// The index of table texel (tx, ty): the lit table's tiles under an environment map, the
+// room's TableTexture rows.
+template <bool kEnvironment> [[gnu::always_inline]] inline int32_t tableIndex(int32_t tx, int32_t ty)
+{
+    return kEnvironment ? TableTexture::tiledIndex(tx, ty) : ty * TableTexture::kResolution + tx;
+}
+
 // The table texel index under table point (x, y), |x|, |y| <= kTableHalfSize.
-size_t tableTexelIndex(float x, float y)
+template <bool kEnvironment> size_t tableTexelIndex(float x, float y)
 {
     constexpr int last = TableTexture::kResolution - 1;
     const int tx = std::clamp(int((x + fake_scene::kTableHalfSize) * TableTexture::kTexelsPerMetre), 0, last);
     const int ty = std::clamp(int((y + fake_scene::kTableHalfSize) * TableTexture::kTexelsPerMetre), 0, last);
-    return size_t(ty) * TableTexture::kResolution + size_t(tx);
+    return size_t(tableIndex<kEnvironment>(tx, ty));
 }
 
 } // namespace
@@ -251,8 +258,10 @@ struct FakeCamera::Impl {
         const fake_scene::PackedRgb* table = nullptr; // the lit table texels
         // Room: the floor levels.
         PackedBuffer background;
-        // Environment: the environment cube's texels, baked as frames first look at them.
-        std::optional<CubeTexels> cubeTexels;
+        // Environment: the environment cube's texels and the lit table's, baked as frames first
+        // look at them (`table` points into litTable).
+        std::optional<LazyTexels> cubeTexels;
+        std::optional<LazyTexels> litTable;
         // Room: code value -> code value at this exposure; identity at 1.
         std::array<uint8_t, 256> remap{};
         bool remapIsIdentity = true;
@@ -289,10 +298,10 @@ struct FakeCamera::Impl {
     FakeTrajectory trajectory;
     bool environment = false; // an environment map surrounds and lights the table
     // Room only: the table lit by the lamp, kept for every frame. Under an environment map the
-    // wood's albedo is only needed to light the table (Exposed::ownTable), so it is made
-    // afresh from the seed each time and freed: 16.8 MB less for the camera's lifetime, at
-    // the cost of remaking it (tens of ms) when the exposure changes.
+    // wood's albedo is only needed to light the table (Exposed::litTable), a tile at a time, so
+    // only its generators are kept: 16.8 MB less for the camera's lifetime.
     std::optional<TableTexture> table;
+    std::optional<TableWood> wood; // environment only
     SensorNoise noise;
     SrgbEncoder encoder;
     std::vector<TagSurface> tags;
@@ -325,6 +334,8 @@ struct FakeCamera::Impl {
         }
         if (!environment) {
             table.emplace(c.seed, true);
+        } else {
+            wood.emplace(c.seed);
         }
         tagsMinX = tagsMinY = INFINITY;
         tagsMaxX = tagsMaxY = -INFINITY;
@@ -410,17 +421,20 @@ struct FakeCamera::Impl {
         for (const TagSurface& tag : tags) {
             out->litTags.push_back(lightTag(tag, e));
         }
-        out->cubeTexels.emplace(*cube, e, encoder);
-        out->ownTable = lightTable(e);
-        out->table = out->ownTable.get();
+        out->cubeTexels.emplace(
+            cube->texelCount(), cube->tileCount(),
+            [this, e](int tile, fake_scene::PackedRgb* texels) { cube->bakeTile(tile, e, encoder, texels); });
+        out->litTable.emplace(size_t(TableTexture::kResolution) * TableTexture::kResolution, TableTexture::kTileCount,
+                              tableLighter(e));
+        out->table = out->litTable->texels();
         return out;
     }
 
-    // The table's texels at exposure e: albedo × W(x, y) × e, encoded. Where no object shades
-    // the table W is constant, so a texel is three 256-entry lookups.
-    [[nodiscard]] PackedBuffer lightTable(float e) const
+    // What lights the table's tiles at exposure e (LazyTexels::BakeTile): albedo × W(x, y) × e,
+    // encoded. Where no object shades the table W is constant, so a texel is three 256-entry
+    // lookups.
+    [[nodiscard]] LazyTexels::BakeTile tableLighter(float e) const
     {
-        constexpr int n = TableTexture::kResolution;
         const glm::vec3 open = e * light->unoccluded();
         std::array<std::array<uint32_t, 256>, 3> openCodes{};
         for (int c = 0; c < 256; ++c) {
@@ -429,27 +443,30 @@ struct FakeCamera::Impl {
                                                    << (ch * fake_scene::kLaneBits);
             }
         }
-        PackedBuffer lit = allocatePacked(size_t(n) * n);
-        const TableTexture albedoTable(config.seed, false);
-        const fake_scene::PackedRgb* albedo = albedoTable.texels();
-        const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
-        using fake_scene::kLaneBits;
-        using fake_scene::kLaneMask;
-        for (int ty = 0; ty < n; ++ty) {
-            const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
-            for (int tx = 0; tx < n; ++tx) {
-                const size_t i = size_t(ty) * n + size_t(tx);
-                const fake_scene::PackedRgb a = albedo[i];
-                const float x = -fake_scene::kTableHalfSize + (float(tx) + 0.5f) * metresPerTexel;
-                if (!light->shadowed(x, y)) {
-                    lit[i] = openCodes[0][a & kLaneMask] | openCodes[1][(a >> kLaneBits) & kLaneMask] |
-                             openCodes[2][a >> (2 * kLaneBits)];
-                } else {
-                    lit[i] = encoder.pack(encoder.unpackLinear(a) * (e * light->at(x, y)));
+        return [this, e, openCodes](int tile, fake_scene::PackedRgb* texels) {
+            constexpr int side = TableTexture::kTileSide;
+            const int tx0 = (tile % TableTexture::kTilesPerSide) * side;
+            const int ty0 = (tile / TableTexture::kTilesPerSide) * side;
+            const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
+            using fake_scene::kLaneBits;
+            using fake_scene::kLaneMask;
+            std::array<fake_scene::PackedRgb, side> albedo{};
+            for (int ty = ty0; ty < ty0 + side; ++ty) {
+                wood->row(ty, tx0, tx0 + side, false, albedo.data());
+                const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
+                for (int k = 0; k < side; ++k) {
+                    const fake_scene::PackedRgb a = albedo[size_t(k)];
+                    const float x = -fake_scene::kTableHalfSize + (float(tx0 + k) + 0.5f) * metresPerTexel;
+                    fake_scene::PackedRgb& lit = texels[TableTexture::tiledIndex(tx0 + k, ty)];
+                    if (!light->shadowed(x, y)) {
+                        lit = openCodes[0][a & kLaneMask] | openCodes[1][(a >> kLaneBits) & kLaneMask] |
+                              openCodes[2][a >> (2 * kLaneBits)];
+                    } else {
+                        lit = encoder.pack(encoder.unpackLinear(a) * (e * light->at(x, y)));
+                    }
                 }
             }
-        }
-        return lit;
+        };
     }
 
     // A tag's print lit at exposure e, texel by texel where a shadow reaches it.
@@ -530,7 +547,7 @@ struct FakeCamera::Impl {
             const float fx = (x + fake_scene::kTableHalfSize) * kScale;
             const float fy = (y + fake_scene::kTableHalfSize) * kScale;
             const bool onTable = down & (fx >= 0.0f) & (fx < kSize) & (fy >= 0.0f) & (fy < kSize);
-            const int index = int(fy) * TableTexture::kResolution + int(fx);
+            const int index = tableIndex<kEnvironment>(int(fx), int(fy));
             if constexpr (kEnvironment) {
                 chunk.texelIndex[i] = onTable ? index : kShadeRay;
                 offTable += onTable ? 0 : 1;
@@ -670,7 +687,7 @@ struct FakeCamera::Impl {
             }
         }
         if (std::abs(x) <= kTableHalfSize && std::abs(y) <= kTableHalfSize) {
-            return ex.table[tableTexelIndex(x, y)];
+            return ex.table[tableTexelIndex<kEnvironment>(x, y)];
         }
         if constexpr (kEnvironment) {
             return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
@@ -928,7 +945,10 @@ void FakeCamera::render(uint64_t sequence, Frame& frame) const
     rays.stepU = glm::vec3(worldFromCamera[0] / k.fx);
     rays.objectOutlines = s.objectOutlines(cameraPose);
     if (s.environment) {
-        exposed->cubeTexels->prepare(rays.view(s.config.width, s.config.height));
+        // The texels this frame may read, baked first where no earlier frame needed them.
+        const ViewCone view = rays.view(s.config.width, s.config.height);
+        exposed->cubeTexels->prepare([&](int tile) { return s.cube->tileMayBeSeen(tile, view); });
+        exposed->litTable->prepare([&](int tile) { return TableTexture::tileMayBeSeen(tile, rays.eye, view); });
     }
     std::array<std::vector<ScreenSpan>, kSamplesPerAxis> spans;
     for (int y = 0; y < s.config.height; ++y) {

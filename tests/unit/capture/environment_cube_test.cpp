@@ -1,6 +1,6 @@
 // The fake camera's environment cube: its tiled layout gives every texel its own index, and
-// a cube baked tile by tile as views need it (CubeTexels) reads, inside each view, exactly
-// what the cube baked whole holds, while baking a small part of it.
+// a cube baked tile by tile as views need it (LazyTexels with tileMayBeSeen) reads, inside
+// each view, exactly what the cube baked whole holds, while baking a small part of it.
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/cube_texels.h"
 #include "capture/environment_cube.h"
+#include "capture/lazy_texels.h"
 #include "gles_renderer/assets/environment_map.h"
 
 namespace lumar {
@@ -73,7 +73,7 @@ std::array<glm::vec3, 4> cameraCorners(glm::vec3 forward, glm::vec3 up)
             forward - x * right + y * down};
 }
 
-TEST(CubeTexels, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
+TEST(EnvironmentCube, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
 {
     const EnvironmentCube cube(sunset(), 10);
     const SrgbEncoder encoder;
@@ -85,9 +85,12 @@ TEST(CubeTexels, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
         {glm::vec3(1.0f, -0.05f, 0.02f), glm::vec3(0.3f, 0.0f, 1.0f)}, // along a face's centre, rolled
     };
     for (const auto& [forward, up] : views) {
-        const CubeTexels lazy(cube, 2.0f, encoder);
+        const LazyTexels lazy(cube.texelCount(), cube.tileCount(), [&](int tile, fake_scene::PackedRgb* texels) {
+            cube.bakeTile(tile, 2.0f, encoder, texels);
+        });
         const std::array<glm::vec3, 4> corners = cameraCorners(forward, up);
-        lazy.prepare(ViewCone::spannedBy(corners));
+        const ViewCone view = ViewCone::spannedBy(corners);
+        lazy.prepare([&](int tile) { return cube.tileMayBeSeen(tile, view); });
         // The view covers ~0.8 sr of the sphere's 12.6: a few percent of the tiles, with the
         // tiles its edges cross.
         EXPECT_LT(lazy.tilesBaked(), cube.tileCount() / 8);
@@ -112,12 +115,13 @@ TEST(CubeTexels, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
     }
 }
 
-TEST(CubeTexels, PreparedWholeItIsTheCubeBakedWhole)
+TEST(EnvironmentCube, TilesBakedOneByOneAreTheCubeBakedWhole)
 {
     const EnvironmentCube cube(sunset(), 8);
     const SrgbEncoder encoder;
     const PackedBuffer whole = cube.bake(0.7f, encoder);
-    const CubeTexels lazy(cube, 0.7f, encoder);
+    const LazyTexels lazy(cube.texelCount(), cube.tileCount(),
+                          [&](int tile, fake_scene::PackedRgb* texels) { cube.bakeTile(tile, 0.7f, encoder, texels); });
     lazy.prepareAll();
     EXPECT_EQ(lazy.tilesBaked(), cube.tileCount());
     EXPECT_EQ(std::memcmp(lazy.texels(), whole.get(), cube.texelCount() * sizeof(fake_scene::PackedRgb)), 0);
