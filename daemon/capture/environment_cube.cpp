@@ -5,8 +5,6 @@
 #include <cmath>
 #include <thread>
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include "core/environment_frame.h"
 #include "core/error.h"
 
@@ -41,23 +39,23 @@ constexpr float kPi = 3.14159265358979323846f;
 
 // Bilinear lookup at pixel position p (equirectPixel), wrapping in longitude and clamping at
 // the poles.
-glm::vec3 sampleEquirect(const ImageF& map, glm::vec2 p)
+glm::vec3 sampleEquirect(const SharedExponentImage& map, glm::vec2 p)
 {
-    const float py = std::clamp(p.y, 0.0f, float(map.height - 1));
+    const int width = map.width();
+    const int height = map.height();
+    const float py = std::clamp(p.y, 0.0f, float(height - 1));
     const float fx0 = std::floor(p.x);
     const float wx = p.x - fx0;
-    const int y0 = std::min(int(py), map.height - 1);
-    const int y1 = std::min(y0 + 1, map.height - 1);
+    const int y0 = std::min(int(py), height - 1);
+    const int y1 = std::min(y0 + 1, height - 1);
     const float wy = py - float(y0);
     int x0 = int(fx0);
-    x0 = x0 < 0 ? x0 + map.width : (x0 >= map.width ? x0 - map.width : x0);
-    const int x1 = x0 + 1 == map.width ? 0 : x0 + 1;
-    const float* r0 = map.row(y0);
-    const float* r1 = map.row(y1);
-    const glm::vec3 a = glm::make_vec3(r0 + 3 * x0);
-    const glm::vec3 b = glm::make_vec3(r0 + 3 * x1);
-    const glm::vec3 c = glm::make_vec3(r1 + 3 * x0);
-    const glm::vec3 d = glm::make_vec3(r1 + 3 * x1);
+    x0 = x0 < 0 ? x0 + width : (x0 >= width ? x0 - width : x0);
+    const int x1 = x0 + 1 == width ? 0 : x0 + 1;
+    const glm::vec3 a = map.at(x0, y0);
+    const glm::vec3 b = map.at(x1, y0);
+    const glm::vec3 c = map.at(x0, y1);
+    const glm::vec3 d = map.at(x1, y1);
     const glm::vec3 top = a + wx * (b - a);
     const glm::vec3 bottom = c + wx * (d - c);
     return top + wy * (bottom - top);
@@ -74,14 +72,22 @@ int EnvironmentCube::log2SizeFor(double fx)
     return log2;
 }
 
-EnvironmentCube::EnvironmentCube(ImageF equirect, int log2Size)
-    : equirect_(std::move(equirect)), log2Size_(std::clamp(log2Size, kMinLog2Size, kMaxLog2Size)),
-      size_(1 << log2Size_), environmentFromWorld_(environmentFromMarker())
+namespace {
+
+const ImageF& checkedMap(const ImageF& equirect)
 {
-    if (equirect_.channels != 3 || equirect_.width < 2 || equirect_.height < 2) {
+    if (equirect.channels != 3 || equirect.width < 2 || equirect.height < 2) {
         throw InputError("the fake camera's environment map must be an RGB image of at least 2x2 pixels");
     }
-    tileCones_ = makeTileCones();
+    return equirect;
+}
+
+} // namespace
+
+EnvironmentCube::EnvironmentCube(const ImageF& equirect, float intensity, int log2Size)
+    : equirect_(checkedMap(equirect), intensity), log2Size_(std::clamp(log2Size, kMinLog2Size, kMaxLog2Size)),
+      size_(1 << log2Size_), environmentFromWorld_(environmentFromMarker()), tileCones_(makeTileCones())
+{
 }
 
 EnvironmentCube::FaceAxes EnvironmentCube::worldAxes(int face)
@@ -147,7 +153,7 @@ bool EnvironmentCube::tileMayBeSeen(int tile, const ViewCone& view) const
 
 glm::vec3 EnvironmentCube::radiance(const glm::vec3& d) const
 {
-    return sampleEquirect(equirect_, equirectPixel(environmentFromWorld_ * d, equirect_.width, equirect_.height));
+    return sampleEquirect(equirect_, equirectPixel(environmentFromWorld_ * d, equirect_.width(), equirect_.height()));
 }
 
 PackedBuffer EnvironmentCube::bake(float exposure, const SrgbEncoder& encoder) const
@@ -188,8 +194,8 @@ void EnvironmentCube::bakeTile(int tile, float exposure, const SrgbEncoder& enco
     const glm::vec3 eMajor = m * axes.major;
     const glm::vec3 eFirst = m * axes.first;
     const glm::vec3 eSecond = m * axes.second;
-    const int width = equirect_.width;
-    const int height = equirect_.height;
+    const int width = equirect_.width();
+    const int height = equirect_.height();
     std::array<float, kSide> px;
     std::array<float, kSide> py;
     fake_scene::PackedRgb* out = texels + size_t(tile) * kTileTexels;

@@ -23,6 +23,7 @@
 
 #include "capture/fake_scene_shading.h"
 #include "capture/packed_buffer.h"
+#include "capture/shared_exponent_image.h"
 #include "capture/srgb_encoding.h"
 #include "capture/view_cone.h"
 #include "core/image.h"
@@ -42,9 +43,9 @@ public:
     // [kMinLog2Size, kMaxLog2Size].
     static int log2SizeFor(double fx);
 
-    // `equirect`: linear radiance, 3 channels, intensity applied (environment_map.h's layout);
-    // faces of 2^log2Size texels a side.
-    EnvironmentCube(ImageF equirect, int log2Size);
+    // `equirect`: linear radiance, 3 channels (environment_map.h's layout), as loaded: the cube
+    // holds max(radiance, 0) · intensity; faces of 2^log2Size texels a side.
+    EnvironmentCube(const ImageF& equirect, float intensity, int log2Size);
 
     [[nodiscard]] int log2Size() const { return log2Size_; }
     // Texels in the whole cube, and tiles (texel index / kTileTexels).
@@ -108,7 +109,7 @@ private:
     static FaceAxes worldAxes(int face);
     [[nodiscard]] std::vector<TileCone> makeTileCones() const;
 
-    ImageF equirect_;
+    SharedExponentImage equirect_;
     int log2Size_;
     int size_;
     glm::mat3 environmentFromWorld_;

@@ -232,20 +232,13 @@ uint8_t toByte(float v)
     return uint8_t(i < 0 ? 0 : (i > 255 ? 255 : i));
 }
 
-// The index of table texel (tx, ty): the lit table's tiles under an environment map, the
-// room's TableTexture rows.
-template <bool kEnvironment> [[gnu::always_inline]] inline int32_t tableIndex(int32_t tx, int32_t ty)
-{
-    return kEnvironment ? TableTexture::tiledIndex(tx, ty) : ty * TableTexture::kResolution + tx;
-}
-
 // The table texel index under table point (x, y), |x|, |y| <= kTableHalfSize.
-template <bool kEnvironment> size_t tableTexelIndex(float x, float y)
+size_t tableTexelIndex(float x, float y)
 {
     constexpr int last = TableTexture::kResolution - 1;
     const int tx = std::clamp(int((x + fake_scene::kTableHalfSize) * TableTexture::kTexelsPerMetre), 0, last);
     const int ty = std::clamp(int((y + fake_scene::kTableHalfSize) * TableTexture::kTexelsPerMetre), 0, last);
-    return size_t(tableIndex<kEnvironment>(tx, ty));
+    return size_t(ty) * TableTexture::kResolution + size_t(tx);
 }
 
 } // namespace
@@ -258,10 +251,8 @@ struct FakeCamera::Impl {
         const fake_scene::PackedRgb* table = nullptr; // the lit table texels
         // Room: the floor levels.
         PackedBuffer background;
-        // Environment: the environment cube's texels and the lit table's, baked as frames first
-        // look at them (`table` points into litTable).
+        // Environment: the environment cube's texels, baked as frames first look at them.
         std::optional<LazyTexels> cubeTexels;
-        std::optional<LazyTexels> litTable;
         // Room: code value -> code value at this exposure; identity at 1.
         std::array<uint8_t, 256> remap{};
         bool remapIsIdentity = true;
@@ -298,8 +289,8 @@ struct FakeCamera::Impl {
     FakeTrajectory trajectory;
     bool environment = false; // an environment map surrounds and lights the table
     // Room only: the table lit by the lamp, kept for every frame. Under an environment map the
-    // wood's albedo is only needed to light the table (Exposed::litTable), a tile at a time, so
-    // only its generators are kept: 16.8 MB less for the camera's lifetime.
+    // wood's albedo is only needed to light the table (Exposed::ownTable), a row at a time from
+    // its generators: the whole albedo table (16.8 MB) is never held.
     std::optional<TableTexture> table;
     std::optional<TableWood> wood; // environment only
     SensorNoise noise;
@@ -317,7 +308,10 @@ struct FakeCamera::Impl {
     std::optional<TableIrradiance> light;
     std::vector<FakeObject> objects;
     std::vector<glm::vec3> objectAlbedo; // linear; unused for a textured object
-    std::vector<ImageF> objectTextures;  // linear albedo; empty for a coloured object
+    // Environment: the views of the frames of one period of the trajectory, whose cube tiles
+    // are baked with each exposure, so frames rendered in order bake none themselves.
+    std::vector<ViewCone> orbitViews;
+    std::vector<ImageF> objectTextures; // linear albedo; empty for a coloured object
 
     std::atomic<double> requestedExposure{1.0};
     mutable std::mutex exposedMutex;
@@ -357,13 +351,20 @@ struct FakeCamera::Impl {
         }
         if (environment) {
             ImageF map = loadHdrImage(c.fakeEnvironment);
+            // The cube keeps the map as loaded (compactly) and applies the intensity itself.
+            cube.emplace(map, float(c.fakeEnvironmentIntensity), EnvironmentCube::log2SizeFor(intrinsics.fx));
             for (float& v : map.data) {
                 v = std::max(v, 0.0f) * float(c.fakeEnvironmentIntensity);
             }
             sh = projectEquirectSH9(map);
             environmentFromWorld = glm::mat3(environmentFromMarker());
             light.emplace(whiteRadiance(glm::vec3(0.0f, 0.0f, 1.0f)), map, objects);
-            cube.emplace(std::move(map), EnvironmentCube::log2SizeFor(intrinsics.fx));
+            // The trajectory repeats every kPeriodSeconds: at 30 fps, 360 frames.
+            const int periodFrames = int(std::min(std::ceil(FakeTrajectory::kPeriodSeconds * c.fps), 3600.0));
+            for (int k = 0; k < periodFrames; ++k) {
+                const Pose pose = trajectory.cameraFromWorld(double(k) / c.fps);
+                orbitViews.push_back(frameView(glm::transpose(pose.R)));
+            }
         }
         exposed = expose(c.exposure);
     }
@@ -424,17 +425,23 @@ struct FakeCamera::Impl {
         out->cubeTexels.emplace(
             cube->texelCount(), cube->tileCount(),
             [this, e](int tile, fake_scene::PackedRgb* texels) { cube->bakeTile(tile, e, encoder, texels); });
-        out->litTable.emplace(size_t(TableTexture::kResolution) * TableTexture::kResolution, TableTexture::kTileCount,
-                              tableLighter(e));
-        out->table = out->litTable->texels();
+        // Baked now, the tiles the orbit's frames will read (7 % of the cube at 1280x720): the
+        // frames then only test their view (~0.05 ms); a frame off the orbit (a sequence that
+        // is not a whole frame of a period at another fps) bakes what it needs itself.
+        out->cubeTexels->prepare([&](int tile) {
+            return std::any_of(orbitViews.begin(), orbitViews.end(),
+                               [&](const ViewCone& view) { return cube->tileMayBeSeen(tile, view); });
+        });
+        out->ownTable = lightTable(e);
+        out->table = out->ownTable.get();
         return out;
     }
 
-    // What lights the table's tiles at exposure e (LazyTexels::BakeTile): albedo × W(x, y) × e,
-    // encoded. Where no object shades the table W is constant, so a texel is three 256-entry
-    // lookups.
-    [[nodiscard]] LazyTexels::BakeTile tableLighter(float e) const
+    // The table's texels at exposure e: albedo × W(x, y) × e, encoded. Where no object shades
+    // the table W is constant, so a texel is three 256-entry lookups.
+    [[nodiscard]] PackedBuffer lightTable(float e) const
     {
+        constexpr int n = TableTexture::kResolution;
         const glm::vec3 open = e * light->unoccluded();
         std::array<std::array<uint32_t, 256>, 3> openCodes{};
         for (int c = 0; c < 256; ++c) {
@@ -443,30 +450,27 @@ struct FakeCamera::Impl {
                                                    << (ch * fake_scene::kLaneBits);
             }
         }
-        return [this, e, openCodes](int tile, fake_scene::PackedRgb* texels) {
-            constexpr int side = TableTexture::kTileSide;
-            const int tx0 = (tile % TableTexture::kTilesPerSide) * side;
-            const int ty0 = (tile / TableTexture::kTilesPerSide) * side;
-            const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
-            using fake_scene::kLaneBits;
-            using fake_scene::kLaneMask;
-            std::array<fake_scene::PackedRgb, side> albedo{};
-            for (int ty = ty0; ty < ty0 + side; ++ty) {
-                wood->row(ty, tx0, tx0 + side, false, albedo.data());
-                const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
-                for (int k = 0; k < side; ++k) {
-                    const fake_scene::PackedRgb a = albedo[size_t(k)];
-                    const float x = -fake_scene::kTableHalfSize + (float(tx0 + k) + 0.5f) * metresPerTexel;
-                    fake_scene::PackedRgb& lit = texels[TableTexture::tiledIndex(tx0 + k, ty)];
-                    if (!light->shadowed(x, y)) {
-                        lit = openCodes[0][a & kLaneMask] | openCodes[1][(a >> kLaneBits) & kLaneMask] |
-                              openCodes[2][a >> (2 * kLaneBits)];
-                    } else {
-                        lit = encoder.pack(encoder.unpackLinear(a) * (e * light->at(x, y)));
-                    }
+        PackedBuffer lit = allocatePacked(size_t(n) * n);
+        const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
+        using fake_scene::kLaneBits;
+        using fake_scene::kLaneMask;
+        std::vector<fake_scene::PackedRgb> albedo(n);
+        for (int ty = 0; ty < n; ++ty) {
+            wood->row(ty, 0, n, false, albedo.data());
+            const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
+            for (int tx = 0; tx < n; ++tx) {
+                const size_t i = size_t(ty) * n + size_t(tx);
+                const fake_scene::PackedRgb a = albedo[size_t(tx)];
+                const float x = -fake_scene::kTableHalfSize + (float(tx) + 0.5f) * metresPerTexel;
+                if (!light->shadowed(x, y)) {
+                    lit[i] = openCodes[0][a & kLaneMask] | openCodes[1][(a >> kLaneBits) & kLaneMask] |
+                             openCodes[2][a >> (2 * kLaneBits)];
+                } else {
+                    lit[i] = encoder.pack(encoder.unpackLinear(a) * (e * light->at(x, y)));
                 }
             }
-        };
+        }
+        return lit;
     }
 
     // A tag's print lit at exposure e, texel by texel where a shadow reaches it.
@@ -547,7 +551,7 @@ struct FakeCamera::Impl {
             const float fx = (x + fake_scene::kTableHalfSize) * kScale;
             const float fy = (y + fake_scene::kTableHalfSize) * kScale;
             const bool onTable = down & (fx >= 0.0f) & (fx < kSize) & (fy >= 0.0f) & (fy < kSize);
-            const int index = tableIndex<kEnvironment>(int(fx), int(fy));
+            const int index = int(fy) * TableTexture::kResolution + int(fx);
             if constexpr (kEnvironment) {
                 chunk.texelIndex[i] = onTable ? index : kShadeRay;
                 offTable += onTable ? 0 : 1;
@@ -687,7 +691,7 @@ struct FakeCamera::Impl {
             }
         }
         if (std::abs(x) <= kTableHalfSize && std::abs(y) <= kTableHalfSize) {
-            return ex.table[tableTexelIndex<kEnvironment>(x, y)];
+            return ex.table[tableTexelIndex(x, y)];
         }
         if constexpr (kEnvironment) {
             return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
@@ -719,24 +723,24 @@ struct FakeCamera::Impl {
             return glm::vec3(worldFromCamera[1] * ((v - k.cy) / k.fy) + worldFromCamera[2] -
                              worldFromCamera[0] * (k.cx / k.fx));
         }
-
-        // Every direction a ray of a width × height frame may take: the rays run from pixel
-        // centre -0.25 to width - 0.75 (kSampleOffsets), and a margin of pixels covers the
-        // rounding of their float directions many times over.
-        [[nodiscard]] ViewCone view(int width, int height) const
-        {
-            constexpr double kMargin = 2.0;
-            const double u0 = -kMargin;
-            const double u1 = double(width - 1) + kMargin;
-            const double v0 = -kMargin;
-            const double v1 = double(height - 1) + kMargin;
-            const auto direction = [&](double u, double v) {
-                const CameraIntrinsics& k = *intrinsics;
-                return glm::vec3(worldFromCamera * glm::dvec3((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0));
-            };
-            return ViewCone::spannedBy({direction(u0, v0), direction(u1, v0), direction(u1, v1), direction(u0, v1)});
-        }
     };
+
+    // Every direction a ray of a frame may take, from its camera's orientation: the rays run
+    // from pixel centre -0.25 to width - 0.75 (kSampleOffsets), and a margin of pixels covers
+    // the rounding of their float directions many times over.
+    [[nodiscard]] ViewCone frameView(const glm::dmat3& worldFromCamera) const
+    {
+        constexpr double kMargin = 2.0;
+        const double u0 = -kMargin;
+        const double u1 = double(config.width - 1) + kMargin;
+        const double v0 = -kMargin;
+        const double v1 = double(config.height - 1) + kMargin;
+        const auto direction = [&](double u, double v) {
+            const CameraIntrinsics& k = intrinsics;
+            return glm::vec3(worldFromCamera * glm::dvec3((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0));
+        };
+        return ViewCone::spannedBy({direction(u0, v0), direction(u1, v0), direction(u1, v1), direction(u0, v1)});
+    }
 
     // Where on screen each object may be in a frame: its outline points projected (a pixel
     // wider all round when used), or the whole image if one is behind the camera.
@@ -946,9 +950,8 @@ void FakeCamera::render(uint64_t sequence, Frame& frame) const
     rays.objectOutlines = s.objectOutlines(cameraPose);
     if (s.environment) {
         // The texels this frame may read, baked first where no earlier frame needed them.
-        const ViewCone view = rays.view(s.config.width, s.config.height);
+        const ViewCone view = s.frameView(worldFromCamera);
         exposed->cubeTexels->prepare([&](int tile) { return s.cube->tileMayBeSeen(tile, view); });
-        exposed->litTable->prepare([&](int tile) { return TableTexture::tileMayBeSeen(tile, rays.eye, view); });
     }
     std::array<std::vector<ScreenSpan>, kSamplesPerAxis> spans;
     for (int y = 0; y < s.config.height; ++y) {

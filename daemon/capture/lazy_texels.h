@@ -1,8 +1,7 @@
 // Code values baked a tile at a time when a frame first needs them (the fake camera's
-// environment cube and lit table): its orbit reads a few percent of its 1024² cube and
-// most but not all of its table, and the tiles no frame reads stay unbaked and cost no
-// memory (issue 18: the cube held 24 MiB baked whole, of which car.toml's camera reads
-// 1.6 MiB over a whole period; the table 16 MiB, of which the bench's frames read 70 %).
+// environment cube): its orbit reads a few percent of its 1024² cube, and the tiles no frame
+// reads stay unbaked and cost no memory (issue 18: the cube held 24 MiB baked whole, of which
+// car.toml's camera reads 1.6 MiB over a whole period).
 #pragma once
 
 #include <functional>

@@ -152,27 +152,4 @@ TableTexture::TableTexture(uint64_t seed, bool lamp) : texels_(size_t(kResolutio
     }
 }
 
-bool TableTexture::tileMayBeSeen(int tile, const glm::vec3& eye, const ViewCone& view)
-{
-    // Seen only if some point of the tile (a texel wider all round: the rays' texel indices
-    // round either way) lies inside every side of the view, so not if all four corners lie
-    // outside one side. The slack (metres) covers float rounding of the sides' normals.
-    constexpr float kSlack = 1e-4f;
-    const float texel = 1.0f / kTexelsPerMetre;
-    const float x0 = -fake_scene::kTableHalfSize + float((tile % kTilesPerSide) * kTileSide - 1) * texel;
-    const float y0 = -fake_scene::kTableHalfSize + float((tile / kTilesPerSide) * kTileSide - 1) * texel;
-    const float side = float(kTileSide + 2) * texel;
-    for (const glm::vec3& n : view.inward) {
-        bool outside = true;
-        for (const glm::vec2 corner :
-             {glm::vec2(x0, y0), glm::vec2(x0 + side, y0), glm::vec2(x0, y0 + side), glm::vec2(x0 + side, y0 + side)}) {
-            outside = outside && glm::dot(n, glm::vec3(corner, 0.0f) - eye) < -kSlack;
-        }
-        if (outside) {
-            return false;
-        }
-    }
-    return true;
-}
-
 } // namespace lumar

@@ -9,13 +9,12 @@
 #include <vector>
 
 #include "capture/fake_scene_shading.h"
-#include "capture/view_cone.h"
 
 namespace lumar {
 
 // The wood's generators (growth rings, warps, fibres, tint), made from the seed once, so that
 // any run of texels can be made on its own: the fake camera under an environment map lights
-// the table a tile at a time as frames first see it, and never holds the albedo whole.
+// the table a row at a time and never holds the albedo whole (16.8 MB at 2048²).
 class TableWood {
 public:
     explicit TableWood(uint64_t seed);
@@ -49,26 +48,6 @@ public:
 
     // Row-major texels, row 0 at y = −kTableHalfSize, for callers that compute indices in bulk.
     [[nodiscard]] const fake_scene::PackedRgb* texels() const { return texels_.data(); }
-
-    // The lit table's layout under an environment map (fake_camera.cpp), in tiles of 32² texels
-    // (4 KiB, one page), each contiguous, so the tiles no frame sees are neither lit nor held:
-    // texel (tx, ty) is at tiledIndex(tx, ty), in tile tiledIndex(tx, ty) / kTileTexels.
-    static constexpr int kLog2Tile = 5;
-    static constexpr int kTileSide = 1 << kLog2Tile;
-    static constexpr int kTileTexels = kTileSide * kTileSide;
-    static constexpr int kTilesPerSide = kResolution / kTileSide;
-    static constexpr int kTileCount = kTilesPerSide * kTilesPerSide;
-    [[gnu::always_inline]] static inline int32_t tiledIndex(int32_t tx, int32_t ty)
-    {
-        constexpr int32_t mask = kTileSide - 1;
-        constexpr int32_t tileRowShift = 2 * kLog2Tile + (11 - kLog2Tile); // log2(kResolution) = 11
-        static_assert(kResolution == 1 << 11);
-        return ((ty >> kLog2Tile) << tileRowShift) | ((tx >> kLog2Tile) << (2 * kLog2Tile)) |
-               ((ty & mask) << kLog2Tile) | (tx & mask);
-    }
-    // False only if no ray from `eye` inside `view` can meet the table plane in tile `tile`
-    // (a conservative test: a few tiles just outside the view may pass it).
-    static bool tileMayBeSeen(int tile, const glm::vec3& eye, const ViewCone& view);
 
 private:
     static int clampIndex(int i) { return i < 0 ? 0 : (i >= kResolution ? kResolution - 1 : i); }

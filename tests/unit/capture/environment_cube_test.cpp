@@ -75,7 +75,7 @@ std::array<glm::vec3, 4> cameraCorners(glm::vec3 forward, glm::vec3 up)
 
 TEST(EnvironmentCube, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
 {
-    const EnvironmentCube cube(sunset(), 10);
+    const EnvironmentCube cube(sunset(), 1.0f, 10);
     const SrgbEncoder encoder;
     const PackedBuffer whole = cube.bake(2.0f, encoder);
     const std::vector<std::array<glm::vec3, 2>> views = {
@@ -117,7 +117,7 @@ TEST(EnvironmentCube, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
 
 TEST(EnvironmentCube, TilesBakedOneByOneAreTheCubeBakedWhole)
 {
-    const EnvironmentCube cube(sunset(), 8);
+    const EnvironmentCube cube(sunset(), 1.0f, 8);
     const SrgbEncoder encoder;
     const PackedBuffer whole = cube.bake(0.7f, encoder);
     const LazyTexels lazy(cube.texelCount(), cube.tileCount(),
