@@ -151,6 +151,20 @@ bool EnvironmentCube::tileMayBeSeen(int tile, const ViewCone& view) const
     return true;
 }
 
+bool EnvironmentCube::tileWithin(int tile, const ViewCone& cone) const
+{
+    // Every direction within the tile's radius r of its centre c lies inside a side with
+    // inward normal n if n · c >= sin r.
+    constexpr float kSlack = 1e-4f;
+    const TileCone& t = tileCones_[size_t(tile)];
+    for (const glm::vec3& n : cone.inward) {
+        if (glm::dot(n, t.centre) < t.sinRadius + kSlack) {
+            return false;
+        }
+    }
+    return true;
+}
+
 glm::vec3 EnvironmentCube::radiance(const glm::vec3& d) const
 {
     return sampleEquirect(equirect_, equirectPixel(environmentFromWorld_ * d, equirect_.width(), equirect_.height()));

@@ -61,6 +61,9 @@ public:
     // False only if no direction inside `view` has index() in tile `tile` (a conservative test:
     // a few tiles just outside the view may pass it).
     [[nodiscard]] bool tileMayBeSeen(int tile, const ViewCone& view) const;
+    // True only if every direction index() may store in tile `tile` lies inside `cone`
+    // (conservative too: a tile just inside may fail it).
+    [[nodiscard]] bool tileWithin(int tile, const ViewCone& cone) const;
 
     // The linear radiance the cube stores towards world direction `d` (any length): the map
     // sampled bilinearly there.

@@ -241,6 +241,23 @@ size_t tableTexelIndex(float x, float y)
     return size_t(ty) * TableTexture::kResolution + size_t(tx);
 }
 
+// The cube tiles a frame from `eye` may read: those its view may reach, less those the table
+// hides whole (a ray that meets the table reads the table, not the cube). The table's cone
+// is taken 1 mm smaller all round: a ray at its very edge may go either way.
+bool cubeTileMayBeRead(const EnvironmentCube& cube, int tile, const ViewCone& view, const glm::vec3& eye)
+{
+    if (!cube.tileMayBeSeen(tile, view)) {
+        return false;
+    }
+    if (eye.z <= 0.0f) {
+        return true;
+    }
+    const float h = fake_scene::kTableHalfSize - 1e-3f;
+    const ViewCone table = ViewCone::spannedBy({glm::vec3(-h, -h, 0.0f) - eye, glm::vec3(h, -h, 0.0f) - eye,
+                                                glm::vec3(h, h, 0.0f) - eye, glm::vec3(-h, h, 0.0f) - eye});
+    return !cube.tileWithin(tile, table);
+}
+
 } // namespace
 
 struct FakeCamera::Impl {
@@ -310,7 +327,11 @@ struct FakeCamera::Impl {
     std::vector<glm::vec3> objectAlbedo; // linear; unused for a textured object
     // Environment: the views of the frames of one period of the trajectory, whose cube tiles
     // are baked with each exposure, so frames rendered in order bake none themselves.
-    std::vector<ViewCone> orbitViews;
+    struct OrbitView {
+        ViewCone view;
+        glm::vec3 eye{0.0f};
+    };
+    std::vector<OrbitView> orbitViews;
     std::vector<ImageF> objectTextures; // linear albedo; empty for a coloured object
 
     std::atomic<double> requestedExposure{1.0};
@@ -363,7 +384,8 @@ struct FakeCamera::Impl {
             const int periodFrames = int(std::min(std::ceil(FakeTrajectory::kPeriodSeconds * c.fps), 3600.0));
             for (int k = 0; k < periodFrames; ++k) {
                 const Pose pose = trajectory.cameraFromWorld(double(k) / c.fps);
-                orbitViews.push_back(frameView(glm::transpose(pose.R)));
+                const glm::dmat3 worldFromCamera = glm::transpose(pose.R);
+                orbitViews.push_back({frameView(worldFromCamera), glm::vec3(-(worldFromCamera * pose.t))});
             }
         }
         exposed = expose(c.exposure);
@@ -430,7 +452,7 @@ struct FakeCamera::Impl {
         // is not a whole frame of a period at another fps) bakes what it needs itself.
         out->cubeTexels->prepare([&](int tile) {
             return std::any_of(orbitViews.begin(), orbitViews.end(),
-                               [&](const ViewCone& view) { return cube->tileMayBeSeen(tile, view); });
+                               [&](const OrbitView& o) { return cubeTileMayBeRead(*cube, tile, o.view, o.eye); });
         });
         out->ownTable = lightTable(e);
         out->table = out->ownTable.get();
@@ -951,7 +973,7 @@ void FakeCamera::render(uint64_t sequence, Frame& frame) const
     if (s.environment) {
         // The texels this frame may read, baked first where no earlier frame needed them.
         const ViewCone view = s.frameView(worldFromCamera);
-        exposed->cubeTexels->prepare([&](int tile) { return s.cube->tileMayBeSeen(tile, view); });
+        exposed->cubeTexels->prepare([&](int tile) { return cubeTileMayBeRead(*s.cube, tile, view, rays.eye); });
     }
     std::array<std::vector<ScreenSpan>, kSamplesPerAxis> spans;
     for (int y = 0; y < s.config.height; ++y) {

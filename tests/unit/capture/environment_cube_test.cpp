@@ -115,6 +115,47 @@ TEST(EnvironmentCube, AViewReadsWhatTheWholeCubeHoldsFromFewTiles)
     }
 }
 
+TEST(EnvironmentCube, ATileWithinAConeHasEveryTexelInsideIt)
+{
+    // The cone a 1.2 m table subtends from a camera above it (the tiles the table hides).
+    const EnvironmentCube cube(sunset(), 1.0f, 8);
+    const int size = 1 << cube.log2Size();
+    const int tilesPerSide = size >> EnvironmentCube::kLog2Tile;
+    for (const glm::vec3 eye : {glm::vec3(0.0f, -0.4f, 0.5f), glm::vec3(0.3f, -0.5f, 0.3f)}) {
+        const float h = 0.6f;
+        const ViewCone table = ViewCone::spannedBy({glm::vec3(-h, -h, 0.0f) - eye, glm::vec3(h, -h, 0.0f) - eye,
+                                                    glm::vec3(h, h, 0.0f) - eye, glm::vec3(-h, h, 0.0f) - eye});
+        int within = 0;
+        int touched = 0; // tiles with a texel inside the cone
+        for (int tile = 0; tile < cube.tileCount(); ++tile) {
+            const int face = tile / (tilesPerSide * tilesPerSide);
+            const int j0 = (tile / tilesPerSide % tilesPerSide) << EnvironmentCube::kLog2Tile;
+            const int i0 = (tile % tilesPerSide) << EnvironmentCube::kLog2Tile;
+            bool allInside = true;
+            bool anyInside = false;
+            // Its texels' centres, and a texel further all round (where index() may round to).
+            for (int j = j0 - 1; j <= j0 + 32; ++j) {
+                for (int i = i0 - 1; i <= i0 + 32; ++i) {
+                    const glm::vec3 d = texelDirection(face, i, j, size);
+                    bool inside = true;
+                    for (const glm::vec3& n : table.inward) {
+                        inside = inside && glm::dot(n, d) >= 0.0f;
+                    }
+                    allInside = allInside && inside;
+                    anyInside = anyInside || inside;
+                }
+            }
+            if (cube.tileWithin(tile, table)) {
+                ++within;
+                EXPECT_TRUE(allInside) << "tile " << tile;
+            }
+            touched += anyInside ? 1 : 0;
+        }
+        // Most tiles the table covers are found within it: a tile's circle is a little larger.
+        EXPECT_GT(within, touched / 2);
+    }
+}
+
 TEST(EnvironmentCube, TilesBakedOneByOneAreTheCubeBakedWhole)
 {
     const EnvironmentCube cube(sunset(), 1.0f, 8);
