@@ -17,6 +17,7 @@
 #include "capture/fake_objects.h"
 #include "capture/fake_scene_shading.h"
 #include "capture/fake_trajectory.h"
+#include "capture/lazy_texels.h"
 #include "capture/packed_buffer.h"
 #include "capture/sensor_noise.h"
 #include "capture/srgb_encoding.h"
@@ -240,6 +241,23 @@ size_t tableTexelIndex(float x, float y)
     return size_t(ty) * TableTexture::kResolution + size_t(tx);
 }
 
+// The cube tiles a frame from `eye` may read: those its view may reach, less those the table
+// hides whole (a ray that meets the table reads the table, not the cube). The table's cone
+// is taken 1 mm smaller all round: a ray at its very edge may go either way.
+bool cubeTileMayBeRead(const EnvironmentCube& cube, int tile, const ViewCone& view, const glm::vec3& eye)
+{
+    if (!cube.tileMayBeSeen(tile, view)) {
+        return false;
+    }
+    if (eye.z <= 0.0f) {
+        return true;
+    }
+    const float h = fake_scene::kTableHalfSize - 1e-3f;
+    const ViewCone table = ViewCone::spannedBy({glm::vec3(-h, -h, 0.0f) - eye, glm::vec3(h, -h, 0.0f) - eye,
+                                                glm::vec3(h, h, 0.0f) - eye, glm::vec3(-h, h, 0.0f) - eye});
+    return !cube.tileWithin(tile, table);
+}
+
 } // namespace
 
 struct FakeCamera::Impl {
@@ -248,8 +266,10 @@ struct FakeCamera::Impl {
         double exposure = 1.0;
         PackedBuffer ownTable;
         const fake_scene::PackedRgb* table = nullptr; // the lit table texels
-        // The environment cube's texels (environment), or the floor levels (room).
+        // Room: the floor levels.
         PackedBuffer background;
+        // Environment: the environment cube's texels, baked as frames first look at them.
+        std::optional<LazyTexels> cubeTexels;
         // Room: code value -> code value at this exposure; identity at 1.
         std::array<uint8_t, 256> remap{};
         bool remapIsIdentity = true;
@@ -286,10 +306,10 @@ struct FakeCamera::Impl {
     FakeTrajectory trajectory;
     bool environment = false; // an environment map surrounds and lights the table
     // Room only: the table lit by the lamp, kept for every frame. Under an environment map the
-    // wood's albedo is only needed to light the table (Exposed::ownTable), so it is made
-    // afresh from the seed each time and freed: 16.8 MB less for the camera's lifetime, at
-    // the cost of remaking it (tens of ms) when the exposure changes.
+    // wood's albedo is only needed to light the table (Exposed::ownTable), a row at a time from
+    // its generators: the whole albedo table (16.8 MB) is never held.
     std::optional<TableTexture> table;
+    std::optional<TableWood> wood; // environment only
     SensorNoise noise;
     SrgbEncoder encoder;
     std::vector<TagSurface> tags;
@@ -305,7 +325,14 @@ struct FakeCamera::Impl {
     std::optional<TableIrradiance> light;
     std::vector<FakeObject> objects;
     std::vector<glm::vec3> objectAlbedo; // linear; unused for a textured object
-    std::vector<ImageF> objectTextures;  // linear albedo; empty for a coloured object
+    // Environment: the views of the frames of one period of the trajectory, whose cube tiles
+    // are baked with each exposure, so frames rendered in order bake none themselves.
+    struct OrbitView {
+        ViewCone view;
+        glm::vec3 eye{0.0f};
+    };
+    std::vector<OrbitView> orbitViews;
+    std::vector<ImageF> objectTextures; // linear albedo; empty for a coloured object
 
     std::atomic<double> requestedExposure{1.0};
     mutable std::mutex exposedMutex;
@@ -322,6 +349,8 @@ struct FakeCamera::Impl {
         }
         if (!environment) {
             table.emplace(c.seed, true);
+        } else {
+            wood.emplace(c.seed);
         }
         tagsMinX = tagsMinY = INFINITY;
         tagsMaxX = tagsMaxY = -INFINITY;
@@ -343,13 +372,21 @@ struct FakeCamera::Impl {
         }
         if (environment) {
             ImageF map = loadHdrImage(c.fakeEnvironment);
+            // The cube keeps the map as loaded (compactly) and applies the intensity itself.
+            cube.emplace(map, float(c.fakeEnvironmentIntensity), EnvironmentCube::log2SizeFor(intrinsics.fx));
             for (float& v : map.data) {
                 v = std::max(v, 0.0f) * float(c.fakeEnvironmentIntensity);
             }
             sh = projectEquirectSH9(map);
             environmentFromWorld = glm::mat3(environmentFromMarker());
             light.emplace(whiteRadiance(glm::vec3(0.0f, 0.0f, 1.0f)), map, objects);
-            cube.emplace(std::move(map), EnvironmentCube::log2SizeFor(intrinsics.fx));
+            // The trajectory repeats every kPeriodSeconds: at 30 fps, 360 frames.
+            const int periodFrames = int(std::min(std::ceil(FakeTrajectory::kPeriodSeconds * c.fps), 3600.0));
+            for (int k = 0; k < periodFrames; ++k) {
+                const Pose pose = trajectory.cameraFromWorld(double(k) / c.fps);
+                const glm::dmat3 worldFromCamera = glm::transpose(pose.R);
+                orbitViews.push_back({frameView(worldFromCamera), glm::vec3(-(worldFromCamera * pose.t))});
+            }
         }
         exposed = expose(c.exposure);
     }
@@ -407,7 +444,16 @@ struct FakeCamera::Impl {
         for (const TagSurface& tag : tags) {
             out->litTags.push_back(lightTag(tag, e));
         }
-        out->background = cube->bake(e, encoder);
+        out->cubeTexels.emplace(
+            cube->texelCount(), cube->tileCount(),
+            [this, e](int tile, fake_scene::PackedRgb* texels) { cube->bakeTile(tile, e, encoder, texels); });
+        // Baked now, the tiles the orbit's frames will read (7 % of the cube at 1280x720): the
+        // frames then only test their view (~0.05 ms); a frame off the orbit (a sequence that
+        // is not a whole frame of a period at another fps) bakes what it needs itself.
+        out->cubeTexels->prepare([&](int tile) {
+            return std::any_of(orbitViews.begin(), orbitViews.end(),
+                               [&](const OrbitView& o) { return cubeTileMayBeRead(*cube, tile, o.view, o.eye); });
+        });
         out->ownTable = lightTable(e);
         out->table = out->ownTable.get();
         return out;
@@ -427,16 +473,16 @@ struct FakeCamera::Impl {
             }
         }
         PackedBuffer lit = allocatePacked(size_t(n) * n);
-        const TableTexture albedoTable(config.seed, false);
-        const fake_scene::PackedRgb* albedo = albedoTable.texels();
         const float metresPerTexel = 1.0f / TableTexture::kTexelsPerMetre;
         using fake_scene::kLaneBits;
         using fake_scene::kLaneMask;
+        std::vector<fake_scene::PackedRgb> albedo(n);
         for (int ty = 0; ty < n; ++ty) {
+            wood->row(ty, 0, n, false, albedo.data());
             const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
             for (int tx = 0; tx < n; ++tx) {
                 const size_t i = size_t(ty) * n + size_t(tx);
-                const fake_scene::PackedRgb a = albedo[i];
+                const fake_scene::PackedRgb a = albedo[size_t(tx)];
                 const float x = -fake_scene::kTableHalfSize + (float(tx) + 0.5f) * metresPerTexel;
                 if (!light->shadowed(x, y)) {
                     lit[i] = openCodes[0][a & kLaneMask] | openCodes[1][(a >> kLaneBits) & kLaneMask] |
@@ -627,7 +673,7 @@ struct FakeCamera::Impl {
         using namespace fake_scene;
         if (dz >= 0.0f) {
             if constexpr (kEnvironment) {
-                return ex.background[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
+                return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
             } else {
                 return ex.remapped(packRgb(wallColour(dz / std::sqrt(dx * dx + dy * dy + dz * dz))));
             }
@@ -670,7 +716,7 @@ struct FakeCamera::Impl {
             return ex.table[tableTexelIndex(x, y)];
         }
         if constexpr (kEnvironment) {
-            return ex.background[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
+            return ex.cubeTexels->texels()[size_t(EnvironmentCube::index(dx, dy, dz, cube->log2Size()))];
         } else {
             // Past the table's edge the ray goes on down to the floor, or to a wall far away.
             const float sf = (kFloorZ - eye.z) / dz;
@@ -700,6 +746,23 @@ struct FakeCamera::Impl {
                              worldFromCamera[0] * (k.cx / k.fx));
         }
     };
+
+    // Every direction a ray of a frame may take, from its camera's orientation: the rays run
+    // from pixel centre -0.25 to width - 0.75 (kSampleOffsets), and a margin of pixels covers
+    // the rounding of their float directions many times over.
+    [[nodiscard]] ViewCone frameView(const glm::dmat3& worldFromCamera) const
+    {
+        constexpr double kMargin = 2.0;
+        const double u0 = -kMargin;
+        const double u1 = double(config.width - 1) + kMargin;
+        const double v0 = -kMargin;
+        const double v1 = double(config.height - 1) + kMargin;
+        const auto direction = [&](double u, double v) {
+            const CameraIntrinsics& k = intrinsics;
+            return glm::vec3(worldFromCamera * glm::dvec3((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0));
+        };
+        return ViewCone::spannedBy({direction(u0, v0), direction(u1, v0), direction(u1, v1), direction(u0, v1)});
+    }
 
     // Where on screen each object may be in a frame: its outline points projected (a pixel
     // wider all round when used), or the whole image if one is behind the camera.
@@ -770,7 +833,7 @@ struct FakeCamera::Impl {
         }
         SplitMix64 rng = SensorNoise::rowGenerator(config.seed, sequence, y);
         const fake_scene::PackedRgb* texels = ex.table;
-        const fake_scene::PackedRgb* background = ex.background.get();
+        const fake_scene::PackedRgb* background = kEnvironment ? ex.cubeTexels->texels() : ex.background.get();
         RayChunk chunks[kSamplesPerAxis];
         for (int x0 = 0; x0 < config.width; x0 += kChunkPixels) {
             for (int sy = 0; sy < kSamplesPerAxis; ++sy) {
@@ -907,6 +970,11 @@ void FakeCamera::render(uint64_t sequence, Frame& frame) const
     rays.intrinsics = &k;
     rays.stepU = glm::vec3(worldFromCamera[0] / k.fx);
     rays.objectOutlines = s.objectOutlines(cameraPose);
+    if (s.environment) {
+        // The texels this frame may read, baked first where no earlier frame needed them.
+        const ViewCone view = s.frameView(worldFromCamera);
+        exposed->cubeTexels->prepare([&](int tile) { return cubeTileMayBeRead(*s.cube, tile, view, rays.eye); });
+    }
     std::array<std::vector<ScreenSpan>, kSamplesPerAxis> spans;
     for (int y = 0; y < s.config.height; ++y) {
         if (s.environment) {

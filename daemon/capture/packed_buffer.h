@@ -33,4 +33,24 @@ inline PackedBuffer allocatePacked(size_t count)
     return PackedBuffer(static_cast<fake_scene::PackedRgb*>(p));
 }
 
+// A buffer filled piecewise, where parts may never be needed (the environment cube's tiles):
+// anonymous pages of 4 KiB that become resident when first written and read as zeros until
+// then; never huge pages, whose first write would make 2 MiB resident at once.
+struct Unmapper {
+    size_t bytes = 0;
+    void operator()(fake_scene::PackedRgb* p) const { (void)munmap(p, bytes); }
+};
+using SparsePackedBuffer = std::unique_ptr<fake_scene::PackedRgb[], Unmapper>;
+
+inline SparsePackedBuffer allocateSparsePacked(size_t count)
+{
+    const size_t bytes = count * sizeof(fake_scene::PackedRgb);
+    void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) {
+        throw std::bad_alloc();
+    }
+    (void)madvise(p, bytes, MADV_NOHUGEPAGE); // where the kernel would use them unasked
+    return SparsePackedBuffer(static_cast<fake_scene::PackedRgb*>(p), Unmapper{bytes});
+}
+
 } // namespace lumar

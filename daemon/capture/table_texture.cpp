@@ -101,35 +101,54 @@ private:
 
 } // namespace
 
-TableTexture::TableTexture(uint64_t seed, bool lamp) : texels_(size_t(kResolution) * kResolution)
-{
-    SplitMix64 rng{splitMix64Hash(seed ^ 0x7461626c65ULL)}; // "table": independent of the noise stream
-    const RingProfile rings(rng);
+struct TableWood::Generators {
+    // Drawn from one stream in this order: the texture depends on it.
+    SplitMix64 rng;
+    RingProfile rings;
     // Slow bends of the grain (about ±2 cm) and the plank's overall tint.
-    const LatticeNoise warpCoarse(5, 4, rng);
-    const LatticeNoise warpFine(13, 9, rng);
-    const LatticeNoise tint(4, 4, rng);
-    const LatticeNoise blotches(19, 23, rng);
+    LatticeNoise warpCoarse;
+    LatticeNoise warpFine;
+    LatticeNoise tint;
+    LatticeNoise blotches;
     // Fibres: long along the grain (x), thin across it.
-    const LatticeNoise fibres(20, 900, rng);
+    LatticeNoise fibres;
 
+    explicit Generators(uint64_t seed)
+        : rng{splitMix64Hash(seed ^ 0x7461626c65ULL)}, // "table": independent of the noise stream
+          rings(rng), warpCoarse(5, 4, rng), warpFine(13, 9, rng), tint(4, 4, rng), blotches(19, 23, rng),
+          fibres(20, 900, rng)
+    {
+    }
+};
+
+TableWood::TableWood(uint64_t seed) : generators_(std::make_unique<const Generators>(seed)) {}
+
+TableWood::~TableWood() = default;
+
+void TableWood::row(int ty, int tx0, int tx1, bool lamp, fake_scene::PackedRgb* out) const
+{
+    const Generators& g = *generators_;
     const glm::vec3 early(200.0f, 152.0f, 104.0f);
     const glm::vec3 late(140.0f, 92.0f, 55.0f);
-    const float metresPerTexel = 2.0f * fake_scene::kTableHalfSize / float(kResolution);
+    const float metresPerTexel = 2.0f * fake_scene::kTableHalfSize / float(TableTexture::kResolution);
+    const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
+    for (int tx = tx0; tx < tx1; ++tx) {
+        const float x = -fake_scene::kTableHalfSize + (float(tx) + 0.5f) * metresPerTexel;
+        const float warp = 0.016f * g.warpCoarse.at(tx, ty) + 0.004f * g.warpFine.at(tx, ty) + 0.01f * x * x;
+        const float grain = g.rings.at(y + warp);
+        const float fibre = g.fibres.at(tx, ty);
+        const float mixDark = std::clamp(0.85f * grain + 0.12f * fibre + 0.08f * g.blotches.at(tx, ty), 0.0f, 1.0f);
+        const float brightness =
+            (1.0f + 0.07f * g.tint.at(tx, ty) + 0.03f * fibre) * (lamp ? fake_scene::tableLighting(x, y) : 1.0f);
+        out[tx - tx0] = fake_scene::packRgb((early + mixDark * (late - early)) * brightness);
+    }
+}
 
+TableTexture::TableTexture(uint64_t seed, bool lamp) : texels_(size_t(kResolution) * kResolution)
+{
+    const TableWood wood(seed);
     for (int ty = 0; ty < kResolution; ++ty) {
-        const float y = -fake_scene::kTableHalfSize + (float(ty) + 0.5f) * metresPerTexel;
-        for (int tx = 0; tx < kResolution; ++tx) {
-            const float x = -fake_scene::kTableHalfSize + (float(tx) + 0.5f) * metresPerTexel;
-            const float warp = 0.016f * warpCoarse.at(tx, ty) + 0.004f * warpFine.at(tx, ty) + 0.01f * x * x;
-            const float grain = rings.at(y + warp);
-            const float fibre = fibres.at(tx, ty);
-            const float mixDark = std::clamp(0.85f * grain + 0.12f * fibre + 0.08f * blotches.at(tx, ty), 0.0f, 1.0f);
-            const float brightness =
-                (1.0f + 0.07f * tint.at(tx, ty) + 0.03f * fibre) * (lamp ? fake_scene::tableLighting(x, y) : 1.0f);
-            texels_[size_t(ty) * kResolution + size_t(tx)] =
-                fake_scene::packRgb((early + mixDark * (late - early)) * brightness);
-        }
+        wood.row(ty, 0, kResolution, lamp, texels_.data() + size_t(ty) * kResolution);
     }
 }
 
