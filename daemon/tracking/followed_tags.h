@@ -44,7 +44,10 @@ private:
     struct Tag {
         std::array<glm::dvec2, 4> corners{};
         glm::dvec2 velocity{0.0}; // pixels per frame, from the last two consecutive sightings
-        uint64_t frame = 0;       // when seen (or predicted) there
+        // The largest distance a corner moved between those two sightings (pixels per frame:
+        // the centre's motion with the tag's turning and scaling); negative when unknown.
+        double cornerMotion = -1.0;
+        uint64_t frame = 0; // when seen (or predicted) there
     };
     int width_, height_, align_;
     std::map<std::pair<int, int>, Tag> tags_; // by id and copy (0: the only or leftmost one)

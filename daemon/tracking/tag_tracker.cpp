@@ -31,6 +31,15 @@ using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
 // A tag's last pose older than this many frames says little about its orientation now.
 constexpr uint64_t kPreviousPoseFrames = 15;
 
+// While every tag of the scene (the sized tags and the maps' tags, no default size) was found
+// on the last frame, the searches for new tags run this many times less often: all they could
+// still find is a tag nothing is placed on or a second copy of a scene's id. On car.toml they
+// took ~3.4 of the detection thread's ~7 ms per frame (a decimate-2 full frame, ~20 ms, every
+// 10 frames; a coarse one, ~4 ms, every 3), CPU the renderer shares. A scene's tag that goes
+// missing brings the full-frame search at once, as before, and while one is missing the
+// searches keep their configured pace, so re-acquisition is as quick as it was.
+constexpr int kAllHeldSearchSlowdown = 6;
+
 // Below this the library's 4x4 threshold tiles degenerate, and no tag fits anyway.
 constexpr int kMinImageSide = 8;
 constexpr int kMaxThreads = 64;
@@ -140,6 +149,9 @@ struct TagTracker::Impl {
     int fullFrameEvery = 1;
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
+    // The scene's ids (sorted), set with the detectors; empty with a default size, when any
+    // id is posed and so every tag in view counts.
+    std::vector<int> sceneIds;
     FollowedTags followed{0, 0, 8};
     std::vector<int> lastIds;              // the ids of the last frame's detections, sorted, copies repeated
     std::vector<SearchWindow> lastWindows; // the last frame's windows (searchedWindows())
@@ -164,6 +176,8 @@ struct TagTracker::Impl {
     // fallback size), their families and the detectors, unless made already.
     void makeDetectors();
     void dropDetectors();
+    // Every id of the scene found on the last frame (see kAllHeldSearchSlowdown).
+    [[nodiscard]] bool sceneHeld() const;
     // Solves the pose of every detection whose size is known.
     void solvePoses(std::vector<TagDetection>& detections);
     [[nodiscard]] std::vector<MapDetection> solveMaps(const std::vector<TagDetection>& detections) const;
@@ -225,15 +239,16 @@ void TagTracker::Impl::makeDetectors()
 {
     if (detector)
         return;
-    std::set<int> sceneIds;
+    std::set<int> ids;
     if (!(sizes.fallback > 0.0)) {
         for (const auto& [id, size] : sizes.byId)
-            sceneIds.insert(id);
+            ids.insert(id);
         for (const TagMap& map : maps)
             for (const TagMapTag& tag : map.tags)
-                sceneIds.insert(tag.id);
+                ids.insert(tag.id);
     }
-    families = std::make_unique<SceneFamilies>(config.family, sceneIds, config.maxBitErrors);
+    sceneIds.assign(ids.begin(), ids.end());
+    families = std::make_unique<SceneFamilies>(config.family, ids, config.maxBitErrors);
     detector = createDetector(config, *families, kLibraryThreadsAreSafe ? config.threads : 1, config.quadDecimate);
     const apriltag_detector_t& td = *detector;
     if (td.nthreads != config.threads) {
@@ -272,6 +287,12 @@ void TagTracker::Impl::dropDetectors()
     second.reset();
     detector.reset();
     families.reset();
+}
+
+bool TagTracker::Impl::sceneHeld() const
+{
+    // Both sorted; lastIds may repeat an id.
+    return !sceneIds.empty() && std::includes(lastIds.begin(), lastIds.end(), sceneIds.begin(), sceneIds.end());
 }
 
 TagTracker::~TagTracker() = default;
@@ -381,9 +402,10 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     bool searched = false;
     SearchCounts& counts = impl_->counts;
     ++counts.frames;
-    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
+    const int slowdown = impl_->sceneHeld() ? kAllHeldSearchSlowdown : 1;
+    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery * slowdown) {
         searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
-        if (searched && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery) {
+        if (searched && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery * slowdown) {
             impl_->framesSinceCoarse = 0;
             ++counts.coarseSearches;
             if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
