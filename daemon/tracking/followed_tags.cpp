@@ -7,12 +7,15 @@ namespace lumar {
 namespace {
 
 // A window reaches this far past its tag's predicted corners: at least kMinRoiMargin pixels,
-// and half the tag's own size (a tag moving fast between frames stays inside), unless the tag
-// was seen on the last two frames: then kMinRoiMargin past the most its corners moved between
-// them (a tag twice as fast stays inside). The detector's time grows with the window's area:
-// car.toml's tag, ~220 px wide and moving ~5 px per frame, is searched in a 315 px window, not a
-// 435 px one. A tag that jumps further is cut by the window's edge, and that frame is searched
-// whole (TagTracker): it costs time, not the tag.
+// and half the tag's own size (a tag moving fast between frames stays inside). With tight
+// windows (TagTracker: while every scene tag is held), a tag seen on the last two frames gets
+// kMinRoiMargin past the most its corners moved between them instead (a tag twice as fast
+// stays inside). The detector's time grows with the window's area: car.toml's tag, ~220 px
+// wide and moving ~5 px per frame, is searched in a ~320x300 px window, not a ~435x415 px one.
+// A tag that jumps further is cut by the window's edge, and that frame is searched whole
+// (TagTracker): it costs time, not the tag. Not while a scene tag is missing: a wide window
+// also finds a tag entering the view next to a followed one (leave_reenter in
+// lumar-bench-tracking --sequences: found 2 frames later with tight windows).
 constexpr double kMinRoiMargin = 48.0;
 // Windows closer than this are searched as one: two calls on touching windows cost more than
 // one on their union, and a tag straddling the gap would be cut by both.
@@ -80,7 +83,7 @@ void FollowedTags::predicted(int id, const std::array<glm::dvec2, 4>& corners, u
     tag.frame = frame;
 }
 
-std::vector<SearchWindow> FollowedTags::windows(uint64_t frame)
+std::vector<SearchWindow> FollowedTags::windows(uint64_t frame, bool tight)
 {
     std::vector<SearchWindow> result;
     for (auto it = tags_.begin(); it != tags_.end();) {
@@ -104,7 +107,7 @@ std::vector<SearchWindow> FollowedTags::windows(uint64_t frame)
         // have sped up).
         const double missed = age > 1 ? double(age - 1) : 0.0;
         double margin = std::max(kMinRoiMargin, 0.5 * std::max(maxX - minX, maxY - minY));
-        if (age <= 1 && tag.cornerMotion >= 0.0)
+        if (tight && age <= 1 && tag.cornerMotion >= 0.0)
             margin = std::min(margin, kMinRoiMargin + tag.cornerMotion);
         margin += 0.5 * glm::length(tag.velocity) * missed;
         if (!(maxX + margin > 0.0 && maxY + margin > 0.0 && minX - margin < width_ && minY - margin < height_)) {

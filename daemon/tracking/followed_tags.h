@@ -34,8 +34,10 @@ public:
 
     // The windows to search at `frame`: one around each followed tag's predicted corners,
     // merged where they overlap or nearly touch, clipped to the image; tags predicted wholly
-    // outside the image are dropped.
-    [[nodiscard]] std::vector<SearchWindow> windows(uint64_t frame);
+    // outside the image are dropped. `tight`: the margins of the tags seen on the last two
+    // frames follow their motion (followed_tags.cpp); otherwise every margin is at least half
+    // its tag's size, and a tag entering the view next to a followed one is found in its window.
+    [[nodiscard]] std::vector<SearchWindow> windows(uint64_t frame, bool tight = false);
 
     void clear() { tags_.clear(); }
     [[nodiscard]] bool empty() const { return tags_.empty(); }

@@ -32,8 +32,9 @@ using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
 constexpr uint64_t kPreviousPoseFrames = 15;
 
 // While every tag of the scene (the sized tags and the maps' tags, no default size) was found
-// on the last frame, the searches for new tags run this many times less often: all they could
-// still find is a tag nothing is placed on or a second copy of a scene's id. On car.toml they
+// on the last frame, the searches for new tags run this many times less often (only every
+// 6th scheduled one is made): all they could still find is a tag nothing is placed on or a
+// second copy of a scene's id. On car.toml they
 // took ~3.4 of the detection thread's ~7 ms per frame (a decimate-2 full frame, ~20 ms, every
 // 10 frames; a coarse one, ~4 ms, every 3), CPU the renderer shares. A scene's tag that goes
 // missing brings the full-frame search at once, as before, and while one is missing the
@@ -149,6 +150,9 @@ struct TagTracker::Impl {
     int fullFrameEvery = 1;
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
+    // Scheduled full-frame and coarse searches skipped in a row (kAllHeldSearchSlowdown).
+    int fullSearchesSkipped = 0;
+    int coarseSearchesSkipped = 0;
     // The scene's ids (sorted), set with the detectors; empty with a default size, when any
     // id is posed and so every tag in view counts.
     std::vector<int> sceneIds;
@@ -366,6 +370,8 @@ void TagTracker::Impl::forgetHistory()
     lastWindows.clear();
     framesSinceFullSearch = 0;
     framesSinceCoarse = 0;
+    fullSearchesSkipped = 0;
+    coarseSearchesSkipped = 0;
     mapsInput.clear();
     mapsResult.clear();
     mapsValid = false;
@@ -402,15 +408,34 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     bool searched = false;
     SearchCounts& counts = impl_->counts;
     ++counts.frames;
-    const int slowdown = impl_->sceneHeld() ? kAllHeldSearchSlowdown : 1;
-    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery * slowdown) {
+    // While every scene tag is held, only every kAllHeldSearchSlowdown-th scheduled search is
+    // made; the schedules themselves keep their pace (a full-frame search skipped leaves the
+    // coarse search's count alone, as one made would), so that once a tag goes missing the
+    // searches fall on the frames they would have fallen on anyway.
+    const bool held = impl_->sceneHeld();
+    const auto skip = [held](int& skipped) {
+        if (held && ++skipped < kAllHeldSearchSlowdown)
+            return true;
+        skipped = 0;
+        return false;
+    };
+    bool windowsFirst = impl_->roi && !impl_->lastIds.empty();
+    bool fullSkipped = false;
+    if (windowsFirst && ++impl_->framesSinceFullSearch >= impl_->fullFrameEvery) {
+        fullSkipped = windowsFirst = skip(impl_->fullSearchesSkipped);
+        if (fullSkipped)
+            impl_->framesSinceFullSearch = 0;
+    }
+    if (windowsFirst) {
         searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
-        if (searched && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery * slowdown) {
+        if (searched && !fullSkipped && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery) {
             impl_->framesSinceCoarse = 0;
-            ++counts.coarseSearches;
-            if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
-                searched = false;
-                ++counts.coarseCatches;
+            if (!skip(impl_->coarseSearchesSkipped)) {
+                ++counts.coarseSearches;
+                if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
+                    searched = false;
+                    ++counts.coarseCatches;
+                }
             }
         }
         ++(searched ? counts.windowSearches : counts.fallbacks);
@@ -431,7 +456,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
 
 bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out)
 {
-    std::vector<SearchWindow> windows = followed.windows(frameCount);
+    std::vector<SearchWindow> windows = followed.windows(frameCount, sceneHeld());
     // A sliver at the image's edge is not searched: a tag missing there brings the full frame.
     std::erase_if(windows,
                   [](const SearchWindow& w) { return w.x1 - w.x0 < kMinImageSide || w.y1 - w.y0 < kMinImageSide; });

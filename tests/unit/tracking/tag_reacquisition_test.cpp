@@ -386,18 +386,21 @@ TagDetection squareTag(double x, double y, double side)
 }
 
 // A window's margin: half the tag's size for a tag seen once (its motion unknown) or missed on
-// the last frame, but only kMinRoiMargin (48 px) past the most its corners moved per frame for
-// a tag seen on the last two frames.
+// the last frame, but with tight windows only kMinRoiMargin (48 px) past the most its corners
+// moved per frame for a tag seen on the last two frames.
 TEST(FollowedTagWindows, MarginFollowsTheTagsMotionOnceKnown)
 {
     FollowedTags followed(1280, 720, 8);
     constexpr double kSide = 200.0;
     followed.seen({squareTag(500.0, 200.0, kSide)}, 1);
-    std::vector<SearchWindow> windows = followed.windows(2);
+    std::vector<SearchWindow> windows = followed.windows(2, true);
     ASSERT_EQ(windows.size(), 1u);
     EXPECT_GE(windows[0].x1 - windows[0].x0, int(2.0 * kSide) - 8); // margin 100 px, origin aligned down
     followed.seen({squareTag(505.0, 200.0, kSide)}, 2);             // 5 px per frame to the right
-    windows = followed.windows(3);
+    windows = followed.windows(3, false);
+    ASSERT_EQ(windows.size(), 1u);
+    EXPECT_GE(windows[0].x1, 710 + 100); // not tight: half the tag's size
+    windows = followed.windows(3, true);
     ASSERT_EQ(windows.size(), 1u);
     const SearchWindow& w = windows[0];
     // Predicted at x 510..710: the window reaches 53 px past it (and down to a multiple of 8).
@@ -407,7 +410,7 @@ TEST(FollowedTagWindows, MarginFollowsTheTagsMotionOnceKnown)
     EXPECT_LE(w.y0, 200 - 53);
     EXPECT_EQ(w.y1, 400 + 53);
     // Missed on frame 3: the full margin again, grown by half the motion per frame missed.
-    windows = followed.windows(4);
+    windows = followed.windows(4, true);
     ASSERT_EQ(windows.size(), 1u);
     EXPECT_GE(windows[0].x1, 715 + 100);
     EXPECT_LE(windows[0].y0, 200 - 100);
