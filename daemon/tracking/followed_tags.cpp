@@ -13,9 +13,9 @@ namespace {
 // stays inside). The detector's time grows with the window's area: car.toml's tag, ~220 px
 // wide and moving ~5 px per frame, is searched in a ~320x300 px window, not a ~435x415 px one.
 // A tag that jumps further is cut by the window's edge, and that frame is searched whole
-// (TagTracker): it costs time, not the tag. Not while a scene tag is missing: a wide window
-// also finds a tag entering the view next to a followed one (leave_reenter in
-// lumar-bench-tracking --sequences: found 2 frames later with tight windows).
+// (TagTracker): it costs time, not the tag. Not while a scene tag is missing: then the windows
+// are as wide as before, and a tag coming back next to a followed one is found in its window
+// as before.
 constexpr double kMinRoiMargin = 48.0;
 // Windows closer than this are searched as one: two calls on touching windows cost more than
 // one on their union, and a tag straddling the gap would be cut by both.
