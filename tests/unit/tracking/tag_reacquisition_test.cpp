@@ -342,6 +342,30 @@ TEST(Reacquisition, SearchesForNewTagsSlowDownWhileEverySceneTagIsHeld)
     EXPECT_EQ(held.searchCounts().fallbacks, 0u);
 }
 
+// Once a scene tag goes missing, the full-frame and coarse searches fall on the frames they
+// fall on for a tracker that never slowed them (one with a default size): the slowed
+// schedules keep their phase, so re-acquisition is as quick as without the slowdown.
+TEST(Reacquisition, SchedulesKeepTheirPhaseThroughTheSlowdown)
+{
+    TagSizes anyTag;
+    anyTag.fallback = 0.08;
+    TrackingConfig config = roiConfig();
+    config.coarseEvery = 3;
+    TagTracker held(config, camera(), sceneSizes()), paced(config, camera(), anyTag);
+    constexpr int kGone = 3 * kFullFrameEvery - 3; // tag 0 leaves after 27 frames held
+    for (int frame = 0; frame < kGone + 3 * kFullFrameEvery; ++frame) {
+        const uint64_t heldCoarse = held.searchCounts().coarseSearches;
+        const uint64_t pacedCoarse = paced.searchCounts().coarseSearches;
+        const Image8 image = drawTags(twoTags(frame, kGone, 1000));
+        ASSERT_EQ(held.detect(image).size(), paced.detect(image).size()) << "frame " << frame;
+        if (frame <= kGone)
+            continue;
+        EXPECT_EQ(held.searchedWindows().empty(), paced.searchedWindows().empty()) << "frame " << frame;
+        EXPECT_EQ(held.searchCounts().coarseSearches - heldCoarse, paced.searchCounts().coarseSearches - pacedCoarse)
+            << "frame " << frame;
+    }
+}
+
 // Scene tags with sizes: one hidden on a single frame at every phase of the slow schedule is
 // found on the next frame, and one occluded for up to 2 * full_frame_every + 1 frames on the
 // first frame it shows again (while it is missing the searches keep their pace).
