@@ -7,7 +7,15 @@ namespace lumar {
 namespace {
 
 // A window reaches this far past its tag's predicted corners: at least kMinRoiMargin pixels,
-// and half the tag's own size (a tag moving fast between frames stays inside).
+// and half the tag's own size (a tag moving fast between frames stays inside). With tight
+// windows (TagTracker: while every scene tag is held), a tag seen on the last two frames gets
+// kMinRoiMargin past the most its corners moved between them instead (a tag twice as fast
+// stays inside). The detector's time grows with the window's area: car.toml's tag, ~220 px
+// wide and moving ~5 px per frame, is searched in a ~320x300 px window, not a ~435x415 px one.
+// A tag that jumps further is cut by the window's edge, and that frame is searched whole
+// (TagTracker): it costs time, not the tag. Not while a scene tag is missing: then the windows
+// are as wide as before, and a tag coming back next to a followed one is found in its window
+// as before.
 constexpr double kMinRoiMargin = 48.0;
 // Windows closer than this are searched as one: two calls on touching windows cost more than
 // one on their union, and a tag straddling the gap would be cut by both.
@@ -54,7 +62,12 @@ void FollowedTags::seen(const std::vector<TagDetection>& detections, uint64_t fr
             best = tags_.try_emplace({d.id, copies}).first;
         Tag& tag = best->second;
         // Velocity only from consecutive frames: after a gap the old one is stale.
-        tag.velocity = !isNew && tag.frame + 1 == frame ? at - centre(tag.corners) : glm::dvec2(0.0);
+        const bool consecutive = !isNew && tag.frame + 1 == frame;
+        tag.velocity = consecutive ? at - centre(tag.corners) : glm::dvec2(0.0);
+        tag.cornerMotion = -1.0;
+        if (consecutive)
+            for (size_t c = 0; c < 4; ++c)
+                tag.cornerMotion = std::max(tag.cornerMotion, glm::length(d.corners[c] - tag.corners[c]));
         tag.corners = d.corners;
         tag.frame = frame;
         updated.push_back(best->first);
@@ -65,11 +78,12 @@ void FollowedTags::predicted(int id, const std::array<glm::dvec2, 4>& corners, u
 {
     Tag& tag = tags_[{id, 0}];
     tag.velocity = glm::dvec2(0.0); // the map's pose moves it from now on
+    tag.cornerMotion = -1.0;
     tag.corners = corners;
     tag.frame = frame;
 }
 
-std::vector<SearchWindow> FollowedTags::windows(uint64_t frame)
+std::vector<SearchWindow> FollowedTags::windows(uint64_t frame, bool tight)
 {
     std::vector<SearchWindow> result;
     for (auto it = tags_.begin(); it != tags_.end();) {
@@ -89,10 +103,13 @@ std::vector<SearchWindow> FollowedTags::windows(uint64_t frame)
             maxY = std::max(maxY, c.y);
         }
         // The longer a tag goes unseen, the less sure its place: the margin grows by half its
-        // predicted motion per frame missed.
+        // predicted motion per frame missed (from the full margin: a tag unseen for a while may
+        // have sped up).
         const double missed = age > 1 ? double(age - 1) : 0.0;
-        const double margin = std::max(kMinRoiMargin, 0.5 * std::max(maxX - minX, maxY - minY)) +
-                              0.5 * glm::length(tag.velocity) * missed;
+        double margin = std::max(kMinRoiMargin, 0.5 * std::max(maxX - minX, maxY - minY));
+        if (tight && age <= 1 && tag.cornerMotion >= 0.0)
+            margin = std::min(margin, kMinRoiMargin + tag.cornerMotion);
+        margin += 0.5 * glm::length(tag.velocity) * missed;
         if (!(maxX + margin > 0.0 && maxY + margin > 0.0 && minX - margin < width_ && minY - margin < height_)) {
             it = tags_.erase(it); // predicted out of view
             continue;

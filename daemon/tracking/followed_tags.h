@@ -34,8 +34,10 @@ public:
 
     // The windows to search at `frame`: one around each followed tag's predicted corners,
     // merged where they overlap or nearly touch, clipped to the image; tags predicted wholly
-    // outside the image are dropped.
-    [[nodiscard]] std::vector<SearchWindow> windows(uint64_t frame);
+    // outside the image are dropped. `tight`: the margins of the tags seen on the last two
+    // frames follow their motion (followed_tags.cpp); otherwise every margin is at least half
+    // its tag's size, and a tag entering the view next to a followed one is found in its window.
+    [[nodiscard]] std::vector<SearchWindow> windows(uint64_t frame, bool tight = false);
 
     void clear() { tags_.clear(); }
     [[nodiscard]] bool empty() const { return tags_.empty(); }
@@ -44,7 +46,10 @@ private:
     struct Tag {
         std::array<glm::dvec2, 4> corners{};
         glm::dvec2 velocity{0.0}; // pixels per frame, from the last two consecutive sightings
-        uint64_t frame = 0;       // when seen (or predicted) there
+        // The largest distance a corner moved between those two sightings (pixels per frame:
+        // the centre's motion with the tag's turning and scaling); negative when unknown.
+        double cornerMotion = -1.0;
+        uint64_t frame = 0; // when seen (or predicted) there
     };
     int width_, height_, align_;
     std::map<std::pair<int, int>, Tag> tags_; // by id and copy (0: the only or leftmost one)

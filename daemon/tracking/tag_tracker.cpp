@@ -31,6 +31,16 @@ using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
 // A tag's last pose older than this many frames says little about its orientation now.
 constexpr uint64_t kPreviousPoseFrames = 15;
 
+// While every tag of the scene (the sized tags and the maps' tags, no default size) was found
+// on the last frame, the searches for new tags run this many times less often (only every
+// 6th scheduled one is made): all they could still find is a tag nothing is placed on or a
+// second copy of a scene's id. On car.toml they
+// took ~3.4 of the detection thread's ~7 ms per frame (a decimate-2 full frame, ~20 ms, every
+// 10 frames; a coarse one, ~4 ms, every 3), CPU the renderer shares. A scene's tag that goes
+// missing brings the full-frame search at once, as before, and while one is missing the
+// searches keep their configured pace, so re-acquisition is as quick as it was.
+constexpr int kAllHeldSearchSlowdown = 6;
+
 // Below this the library's 4x4 threshold tiles degenerate, and no tag fits anyway.
 constexpr int kMinImageSide = 8;
 constexpr int kMaxThreads = 64;
@@ -140,6 +150,12 @@ struct TagTracker::Impl {
     int fullFrameEvery = 1;
     int roiAlignment = 8;
     int framesSinceFullSearch = 0;
+    // Scheduled full-frame and coarse searches skipped in a row (kAllHeldSearchSlowdown).
+    int fullSearchesSkipped = 0;
+    int coarseSearchesSkipped = 0;
+    // The scene's ids (sorted), set with the detectors; empty with a default size, when any
+    // id is posed and so every tag in view counts.
+    std::vector<int> sceneIds;
     FollowedTags followed{0, 0, 8};
     std::vector<int> lastIds;              // the ids of the last frame's detections, sorted, copies repeated
     std::vector<SearchWindow> lastWindows; // the last frame's windows (searchedWindows())
@@ -164,6 +180,8 @@ struct TagTracker::Impl {
     // fallback size), their families and the detectors, unless made already.
     void makeDetectors();
     void dropDetectors();
+    // Every id of the scene found on the last frame (see kAllHeldSearchSlowdown).
+    [[nodiscard]] bool sceneHeld() const;
     // Solves the pose of every detection whose size is known.
     void solvePoses(std::vector<TagDetection>& detections);
     [[nodiscard]] std::vector<MapDetection> solveMaps(const std::vector<TagDetection>& detections) const;
@@ -225,15 +243,16 @@ void TagTracker::Impl::makeDetectors()
 {
     if (detector)
         return;
-    std::set<int> sceneIds;
+    std::set<int> ids;
     if (!(sizes.fallback > 0.0)) {
         for (const auto& [id, size] : sizes.byId)
-            sceneIds.insert(id);
+            ids.insert(id);
         for (const TagMap& map : maps)
             for (const TagMapTag& tag : map.tags)
-                sceneIds.insert(tag.id);
+                ids.insert(tag.id);
     }
-    families = std::make_unique<SceneFamilies>(config.family, sceneIds, config.maxBitErrors);
+    sceneIds.assign(ids.begin(), ids.end());
+    families = std::make_unique<SceneFamilies>(config.family, ids, config.maxBitErrors);
     detector = createDetector(config, *families, kLibraryThreadsAreSafe ? config.threads : 1, config.quadDecimate);
     const apriltag_detector_t& td = *detector;
     if (td.nthreads != config.threads) {
@@ -272,6 +291,12 @@ void TagTracker::Impl::dropDetectors()
     second.reset();
     detector.reset();
     families.reset();
+}
+
+bool TagTracker::Impl::sceneHeld() const
+{
+    // Both sorted; lastIds may repeat an id.
+    return !sceneIds.empty() && std::includes(lastIds.begin(), lastIds.end(), sceneIds.begin(), sceneIds.end());
 }
 
 TagTracker::~TagTracker() = default;
@@ -345,6 +370,8 @@ void TagTracker::Impl::forgetHistory()
     lastWindows.clear();
     framesSinceFullSearch = 0;
     framesSinceCoarse = 0;
+    fullSearchesSkipped = 0;
+    coarseSearchesSkipped = 0;
     mapsInput.clear();
     mapsResult.clear();
     mapsValid = false;
@@ -381,14 +408,34 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
     bool searched = false;
     SearchCounts& counts = impl_->counts;
     ++counts.frames;
-    if (impl_->roi && !impl_->lastIds.empty() && ++impl_->framesSinceFullSearch < impl_->fullFrameEvery) {
+    // While every scene tag is held, only every kAllHeldSearchSlowdown-th scheduled search is
+    // made; the schedules themselves keep their pace (a full-frame search skipped leaves the
+    // coarse search's count alone, as one made would), so that once a tag goes missing the
+    // searches fall on the frames they would have fallen on anyway.
+    const bool held = impl_->sceneHeld();
+    const auto skip = [held](int& skipped) {
+        if (held && ++skipped < kAllHeldSearchSlowdown)
+            return true;
+        skipped = 0;
+        return false;
+    };
+    bool windowsFirst = impl_->roi && !impl_->lastIds.empty();
+    bool fullSkipped = false;
+    if (windowsFirst && ++impl_->framesSinceFullSearch >= impl_->fullFrameEvery) {
+        fullSkipped = windowsFirst = skip(impl_->fullSearchesSkipped);
+        if (fullSkipped)
+            impl_->framesSinceFullSearch = 0;
+    }
+    if (windowsFirst) {
         searched = impl_->searchWindows(pixels, luma.width, luma.height, result);
-        if (searched && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery) {
+        if (searched && !fullSkipped && impl_->coarse && ++impl_->framesSinceCoarse >= impl_->coarseEvery) {
             impl_->framesSinceCoarse = 0;
-            ++counts.coarseSearches;
-            if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
-                searched = false;
-                ++counts.coarseCatches;
+            if (!skip(impl_->coarseSearchesSkipped)) {
+                ++counts.coarseSearches;
+                if (impl_->coarseFindsMore(pixels, luma.width, luma.height, result)) {
+                    searched = false;
+                    ++counts.coarseCatches;
+                }
             }
         }
         ++(searched ? counts.windowSearches : counts.fallbacks);
@@ -409,7 +456,7 @@ std::vector<TagDetection> TagTracker::detect(const Image8& luma)
 
 bool TagTracker::Impl::searchWindows(uint8_t* pixels, int width, int height, std::vector<TagDetection>& out)
 {
-    std::vector<SearchWindow> windows = followed.windows(frameCount);
+    std::vector<SearchWindow> windows = followed.windows(frameCount, sceneHeld());
     // A sliver at the image's edge is not searched: a tag missing there brings the full frame.
     std::erase_if(windows,
                   [](const SearchWindow& w) { return w.x1 - w.x0 < kMinImageSide || w.y1 - w.y0 < kMinImageSide; });

@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "tracking/followed_tags.h"
 #include "tracking/tag_map.h"
 #include "tracking/tag_tracker.h"
 #include "tracking_test_support.h"
@@ -307,6 +308,136 @@ TEST(Reacquisition, SearchedWindowsHoldTheTagsFoundInThem)
         EXPECT_EQ(fullFrames.detect(drawTags(twoTags(frame, 0, 0))).size(), 2u);
         EXPECT_TRUE(fullFrames.searchedWindows().empty());
     }
+}
+
+// Tags 0 and 1 with sizes and no default size: the scene's tags.
+TagSizes sceneSizes()
+{
+    TagSizes sizes;
+    sizes.byId = {{0, 0.08}, {1, 0.08}};
+    return sizes;
+}
+
+// While every scene tag is found frame after frame, the searches for new tags (the full-frame
+// one every full_frame_every frames, the coarse one every coarse_every) run six times less
+// often; with a default size any tag in view may be posed, so they keep their pace.
+TEST(Reacquisition, SearchesForNewTagsSlowDownWhileEverySceneTagIsHeld)
+{
+    TagSizes anyTag;
+    anyTag.fallback = 0.08;
+    TrackingConfig config = roiConfig();
+    config.coarseEvery = 3;
+    TagTracker held(config, camera(), sceneSizes()), paced(config, camera(), anyTag);
+    constexpr int kFrames = 6 * kFullFrameEvery;
+    for (int frame = 0; frame < kFrames; ++frame) {
+        const Image8 image = drawTags(twoTags(frame, 0, 0));
+        ASSERT_EQ(held.detect(image).size(), 2u) << "frame " << frame;
+        ASSERT_EQ(paced.detect(image).size(), 2u) << "frame " << frame;
+    }
+    EXPECT_GE(paced.searchCounts().fullSearches, uint64_t(kFrames / kFullFrameEvery));
+    EXPECT_GE(paced.searchCounts().coarseSearches, uint64_t(kFrames / 3 - kFrames / kFullFrameEvery));
+    EXPECT_EQ(held.searchCounts().fullSearches, 1u); // the first frame's
+    EXPECT_LE(held.searchCounts().coarseSearches, uint64_t(kFrames / 18));
+    EXPECT_GT(held.searchCounts().coarseSearches, 0u);
+    EXPECT_EQ(held.searchCounts().fallbacks, 0u);
+}
+
+// Once a scene tag goes missing, the full-frame and coarse searches fall on the frames they
+// fall on for a tracker that never slowed them (one with a default size): the slowed
+// schedules keep their phase, so re-acquisition is as quick as without the slowdown.
+TEST(Reacquisition, SchedulesKeepTheirPhaseThroughTheSlowdown)
+{
+    TagSizes anyTag;
+    anyTag.fallback = 0.08;
+    TrackingConfig config = roiConfig();
+    config.coarseEvery = 3;
+    TagTracker held(config, camera(), sceneSizes()), paced(config, camera(), anyTag);
+    constexpr int kGone = 3 * kFullFrameEvery - 3; // tag 0 leaves after 27 frames held
+    for (int frame = 0; frame < kGone + 3 * kFullFrameEvery; ++frame) {
+        const uint64_t heldCoarse = held.searchCounts().coarseSearches;
+        const uint64_t pacedCoarse = paced.searchCounts().coarseSearches;
+        const Image8 image = drawTags(twoTags(frame, kGone, 1000));
+        ASSERT_EQ(held.detect(image).size(), paced.detect(image).size()) << "frame " << frame;
+        if (frame <= kGone)
+            continue;
+        EXPECT_EQ(held.searchedWindows().empty(), paced.searchedWindows().empty()) << "frame " << frame;
+        EXPECT_EQ(held.searchCounts().coarseSearches - heldCoarse, paced.searchCounts().coarseSearches - pacedCoarse)
+            << "frame " << frame;
+    }
+}
+
+// Scene tags with sizes: one hidden on a single frame at every phase of the slow schedule is
+// found on the next frame, and one occluded for up to 2 * full_frame_every + 1 frames on the
+// first frame it shows again (while it is missing the searches keep their pace).
+TEST(Reacquisition, SceneTagsMissedAtAnyPhaseOfTheSlowScheduleAreFoundAtOnce)
+{
+    TagTracker tracker(roiConfig(), camera(), sceneSizes());
+    // Each phase of the first full-frame period, then those about the slowed coarse and
+    // full-frame searches (every 18 and 60 frames).
+    std::vector<int> phases;
+    for (int hidden = 1; hidden <= kFullFrameEvery + 2; ++hidden)
+        phases.push_back(hidden);
+    for (int hidden : {17, 18, 19, 35, 36, 37, 53, 54, 55, 59, 60, 61, 62})
+        phases.push_back(hidden);
+    for (const int hidden : phases) {
+        SCOPED_TRACE("hidden on frame " + std::to_string(hidden));
+        tracker.reset(camera());
+        for (int frame = 0; frame <= hidden + 1; ++frame) {
+            const auto detections = tracker.detect(drawTags(twoTags(frame, hidden, hidden + 1)));
+            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
+            EXPECT_EQ(found(detections, 0), frame != hidden) << "frame " << frame;
+        }
+    }
+    constexpr int kStart = 25;
+    for (int length = 1; length <= 2 * kFullFrameEvery + 1; ++length) {
+        SCOPED_TRACE("occluded for " + std::to_string(length) + " frames");
+        tracker.reset(camera());
+        for (int frame = 0; frame <= kStart + length; ++frame) {
+            const auto detections = tracker.detect(drawTags(twoTags(frame, kStart, kStart + length)));
+            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
+            EXPECT_EQ(found(detections, 0), frame < kStart || frame >= kStart + length) << "frame " << frame;
+        }
+    }
+}
+
+// A square tag `side` px wide with its top-left corner at (x, y), in the AprilTag order.
+TagDetection squareTag(double x, double y, double side)
+{
+    TagDetection d;
+    d.id = 0;
+    d.corners = {glm::dvec2(x, y + side), glm::dvec2(x + side, y + side), glm::dvec2(x + side, y), glm::dvec2(x, y)};
+    return d;
+}
+
+// A window's margin: half the tag's size for a tag seen once (its motion unknown) or missed on
+// the last frame, but with tight windows only kMinRoiMargin (48 px) past the most its corners
+// moved per frame for a tag seen on the last two frames.
+TEST(FollowedTagWindows, MarginFollowsTheTagsMotionOnceKnown)
+{
+    FollowedTags followed(1280, 720, 8);
+    constexpr double kSide = 200.0;
+    followed.seen({squareTag(500.0, 200.0, kSide)}, 1);
+    std::vector<SearchWindow> windows = followed.windows(2, true);
+    ASSERT_EQ(windows.size(), 1u);
+    EXPECT_GE(windows[0].x1 - windows[0].x0, int(2.0 * kSide) - 8); // margin 100 px, origin aligned down
+    followed.seen({squareTag(505.0, 200.0, kSide)}, 2);             // 5 px per frame to the right
+    windows = followed.windows(3, false);
+    ASSERT_EQ(windows.size(), 1u);
+    EXPECT_GE(windows[0].x1, 710 + 100); // not tight: half the tag's size
+    windows = followed.windows(3, true);
+    ASSERT_EQ(windows.size(), 1u);
+    const SearchWindow& w = windows[0];
+    // Predicted at x 510..710: the window reaches 53 px past it (and down to a multiple of 8).
+    EXPECT_LE(w.x0, 510 - 53);
+    EXPECT_GE(w.x0, 510 - 53 - 8);
+    EXPECT_EQ(w.x1, 710 + 53);
+    EXPECT_LE(w.y0, 200 - 53);
+    EXPECT_EQ(w.y1, 400 + 53);
+    // Missed on frame 3: the full margin again, grown by half the motion per frame missed.
+    windows = followed.windows(4, true);
+    ASSERT_EQ(windows.size(), 1u);
+    EXPECT_GE(windows[0].x1, 715 + 100);
+    EXPECT_LE(windows[0].y0, 200 - 100);
 }
 
 } // namespace
