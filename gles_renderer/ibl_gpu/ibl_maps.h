@@ -17,9 +17,12 @@ namespace lumar {
 // kept a sky with a sun within the stated bounds. Where mesh.frag reads them, between texel
 // centres (tests/gl/ibl_lookup_test.cpp), most of glossy-2's error is its face size's: next
 // to venice's sun 0.096 of the peak for exact 16-px texels, 0.198 at 8 px. glossy-2's lobe
-// samples, importance-sampled with a mip level each (IblPipeline::makeLobePrefilter): 104
-// give 0.091 worst, 0.0124 rms there (100: 0.100, 0.0146; 96: 0.122, 0.0152, out of
-// bounds); the former equal-solid-angle samples from one level needed 144 (0.116, 0.0125).
+// samples, importance-sampled with a mip level each (IblPipeline::makeLobePrefilter): 112
+// give 0.081 worst, 0.0110 rms there (104: 0.091, 0.0124; 100: 0.100, 0.0146; 96: 0.122,
+// 0.0152, out of bounds); the former equal-solid-angle samples from one level needed 144
+// (0.116, 0.0125). 112, not 104: margin, and at 104 a glossy-1 texel of ibl_bank_test's
+// RGBM bank rounds one code apart from the same map built alone (bank and single-atlas
+// coordinates round differently; 88-144 samples: none but 104 and 144 show it).
 struct IblSettings {
     int mirrorSize = 64;        // px per face of the environment map
     int shSamples = 4096;       // N uniformly spaced (spherical Fibonacci) directions
@@ -27,7 +30,7 @@ struct IblSettings {
     int diffuseSize = 16;       // px per face of the diffuse map (8 px: bilinear errors ~0.5 %)
     int glossy1Size = 8;        // ... of the glossy map at exponent glossy1Exponent
     int glossy2Size = 16;       // ... at glossy2Exponent
-    int prefilterSamples = 104; // lobe samples per glossy-2 texel (from the mirror's levels)
+    int prefilterSamples = 112; // lobe samples per glossy-2 texel (from the mirror's levels)
     int cascadeSamples = 36;    // lobe samples per glossy-1 texel (from glossy-2, already smooth)
     // Store the maps as RGBA8 RGBM even where float targets exist (tests of the fallback).
     bool forceRgbm = false;

@@ -36,7 +36,8 @@ constexpr float kLobeCutoff = 0.01f;
 // glossy-2's samples have density ∝ cos^(this x n) (makeLobePrefilter): between the lobe's
 // own (1, fewest samples in the tails) and equal solid angles (0). Measured with
 // ibl_lookup_test at 104 samples, next to venice's sun: 0.5 gives 0.081 worst, 0.0124 rms;
-// 0.375 0.105, 0.0151; 0.625 0.113, 0.0126; 0.75 0.127, 0.0136.
+// 0.375 0.105, 0.0151; 0.625 0.113, 0.0126; 0.75 0.127, 0.0136 (at 112: 0.5 0.073, 0.0110;
+// 0.75 0.114, 0.0136).
 constexpr double kSampleDensityPower = 0.5;
 // The SH sums' fragments each add up kShGroups coefficients (sh_project.glsl's outputs).
 constexpr int kShGroups = 3;

@@ -88,7 +88,7 @@ private:
     struct Prefilter {
         GlBuffer samples; // the LobeSamples uniform block of phong_prefilter.frag
         int count = 0;
-        int levels = 1; // the source's levels read: 0 .. levels - 1
+        int levels = 1;     // the source's levels read: 0 .. levels - 1
         GLuint program = 0; // phongPrefilter_ or phongPrefilterLevels_, and its uniforms
         GLint environmentFromFace = -1, atlasSize = -1, slot = -1, sampleCount = -1;
     };

@@ -159,7 +159,7 @@ TEST(SphereSamples, CapSamplesStayInTheCapWithTheUniformMeanCosine)
 // The importance-sampled cap (glossy-2's prefilter samples): in the cap, the Fibonacci cap
 // where m = 0, cosθ distributed as the density says (its mean), and Σ f/(N pdf) the cap
 // integral of f, for f = 1 (the density is normalised) and f = cos^n (the lobe the
-// prefilter integrates), at the prefilter's own count.
+// prefilter integrates), at a prefilter's sample count.
 TEST(SphereSamples, PowerCapSamplesFollowTheirDensity)
 {
     const std::vector<glm::vec3> cap = fibonacciCapSamples(104, 0.9306f);
@@ -169,7 +169,7 @@ TEST(SphereSamples, PowerCapSamplesFollowTheirDensity)
         EXPECT_LT(glm::length(uniform[k] - cap[k]), 1e-6f) << k;
 
     constexpr double kTwoPi = 2.0 * std::numbers::pi;
-    for (const auto [m, cosMax] : {std::pair(32.0, 0.9306), std::pair(16.0, 0.8), std::pair(4.0, 0.5)}) {
+    for (const auto& [m, cosMax] : {std::pair(32.0, 0.9306), std::pair(16.0, 0.8), std::pair(4.0, 0.5)}) {
         const int count = 104;
         const std::vector<glm::vec3> directions = powerCapSamples(count, float(m), float(cosMax));
         ASSERT_EQ(directions.size(), size_t(count));
@@ -186,7 +186,8 @@ TEST(SphereSamples, PowerCapSamplesFollowTheirDensity)
         }
         // E[cosθ] = (m + 1)/(m + 2) (1 − c0^(m+2)) / (1 − c0^(m+1)) (measured within 1.1e-5);
         // a density one power off moves it by ≥ 3.2e-4, 10x the bound. The sums: within 0.0016.
-        const double expectedCos = (m + 1.0) / (m + 2.0) * (1.0 - std::pow(c0, m + 2.0)) / (1.0 - std::pow(c0, m + 1.0));
+        const double expectedCos =
+            (m + 1.0) / (m + 2.0) * (1.0 - std::pow(c0, m + 2.0)) / (1.0 - std::pow(c0, m + 1.0));
         EXPECT_NEAR(meanCos, expectedCos, 3e-5) << "m " << m;
         EXPECT_NEAR(solidAngle / (kTwoPi * (1.0 - c0)), 1.0, 0.005) << "m " << m;
         const double exactLobe = kTwoPi * (1.0 - std::pow(c0, 65.0)) / 65.0;
