@@ -118,6 +118,36 @@ std::vector<glm::vec3> stratifiedCapSamples(int gridSide, float cosMaxAngle, uin
     return directions;
 }
 
+std::vector<glm::vec3> powerCapSamples(int count, float exponent, float cosMaxAngle)
+{
+    constexpr int kMaxCount = kMaxSampleGridSide * kMaxSampleGridSide;
+    if (count < 1 || count > kMaxCount || !(exponent >= 0.0f) || !(cosMaxAngle >= 0.0f && cosMaxAngle < 1.0f)) {
+        throw InputError("power-cap samples need a count in 1.." + std::to_string(kMaxCount) +
+                         ", an exponent >= 0 and a cap cosine in [0, 1), got " + std::to_string(count) + ", " +
+                         std::to_string(exponent) + " and " + std::to_string(cosMaxAngle));
+    }
+    const double goldenAngle = std::numbers::pi * (3.0 - std::sqrt(5.0));
+    const double power = double(exponent) + 1.0;
+    const double mass = 1.0 - std::pow(double(cosMaxAngle), power); // of cos^(m+1) over the cap
+    std::vector<glm::vec3> directions;
+    directions.reserve(size_t(count));
+    for (int k = 0; k < count; ++k) {
+        const double u = (k + 0.5) / count;
+        const double cosTheta = std::pow(1.0 - u * mass, 1.0 / power);
+        const double sinTheta = std::sqrt(std::max(0.0, (1.0 - cosTheta) * (1.0 + cosTheta)));
+        const double phi = std::fmod(k * goldenAngle, kTwoPi);
+        directions.emplace_back(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+    }
+    return directions;
+}
+
+double powerCapPdf(double cosTheta, double exponent, double cosMaxAngle)
+{
+    if (!(cosTheta >= cosMaxAngle) || cosTheta > 1.0)
+        return 0.0;
+    return (exponent + 1.0) * std::pow(cosTheta, exponent) / (kTwoPi * (1.0 - std::pow(cosMaxAngle, exponent + 1.0)));
+}
+
 double capSolidAngle(float cosMaxAngle)
 {
     return kTwoPi * (1.0 - double(cosMaxAngle));

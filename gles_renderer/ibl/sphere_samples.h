@@ -47,6 +47,20 @@ std::vector<glm::vec3> stratifiedCapSamples(int gridSide, float cosMaxAngle, uin
 // Throws InputError unless 1 ≤ count ≤ 4096² and -1 ≤ cosMaxAngle < 1.
 std::vector<glm::vec3> fibonacciCapSamples(int count, float cosMaxAngle);
 
+// count directions around +Z with density proportional to cos^m θ within the cap
+// cosθ ≥ cosMaxAngle (importance sampling of a Phong lobe, m its exponent, or of a broader
+// one): the Fibonacci spiral in the warped domain, u_k = (k + ½)/count,
+// cosθ_k^(m+1) = 1 − u_k (1 − cosMaxAngle^(m+1)) (the inverse of the CDF over the cap),
+// φ_k = k · golden angle, θ from +Z. Each direction stands for 1/count of the density, so
+// its own solid angle is 1/(count · powerCapPdf(cosθ_k)): small at the centre, large in the
+// tails. Index order runs from the centre out; m = 0 gives fibonacciCapSamples. Throws
+// InputError unless 1 ≤ count ≤ 4096², m ≥ 0 and 0 ≤ cosMaxAngle < 1.
+std::vector<glm::vec3> powerCapSamples(int count, float exponent, float cosMaxAngle);
+
+// That density over solid angle at cosθ: (m + 1) cos^m θ / (2π (1 − cosMaxAngle^(m+1))) in
+// the cap, 0 outside it.
+double powerCapPdf(double cosTheta, double exponent, double cosMaxAngle);
+
 // The solid angle 2π(1 − cosMaxAngle) of that cap.
 double capSolidAngle(float cosMaxAngle);
 

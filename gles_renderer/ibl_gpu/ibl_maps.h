@@ -13,12 +13,16 @@ namespace lumar {
 
 // Sizes and sample counts, chosen by measurement (tests/gl/ibl_maps_test.cpp prints the
 // errors against CPU brute force; lumar bench the cost): the glossy lobes at n = 8 and 64
-// are wider than a texel of 8 and 16 px faces; 4096 SH samples and 144 lobe samples were
-// the smallest counts that kept a sky with a sun within the stated bounds (64 lobe samples:
-// 14 % worst texel instead of 8 %). Where mesh.frag reads them, between texel centres
-// (tests/gl/ibl_lookup_test.cpp), most of glossy-2's error is its face size's: next to
-// venice's sun 0.116 of the peak at 16 px (0.096 for exact texels), 0.198 at 8 px; 128
-// samples 0.128, 112 samples 0.150 (the 16-px mirror level: 64-100 samples, 0.14-0.15).
+// are wider than a texel of 8 and 16 px faces; 4096 SH samples were the smallest count that
+// kept a sky with a sun within the stated bounds. Where mesh.frag reads them, between texel
+// centres (tests/gl/ibl_lookup_test.cpp), most of glossy-2's error is its face size's: next
+// to venice's sun 0.096 of the peak for exact 16-px texels, 0.198 at 8 px. glossy-2's lobe
+// samples, importance-sampled with a mip level each (IblPipeline::makeLobePrefilter): 112
+// give 0.081 worst, 0.0110 rms there (104: 0.091, 0.0124; 100: 0.100, 0.0146; 96: 0.122,
+// 0.0152, out of bounds); the former equal-solid-angle samples from one level needed 144
+// (0.116, 0.0125). 112, not 104: margin, and at 104 a glossy-1 texel of ibl_bank_test's
+// RGBM bank rounds one code apart from the same map built alone (bank and single-atlas
+// coordinates round differently; 88-144 samples: none but 104 and 144 show it).
 struct IblSettings {
     int mirrorSize = 64;        // px per face of the environment map
     int shSamples = 4096;       // N uniformly spaced (spherical Fibonacci) directions
@@ -26,7 +30,7 @@ struct IblSettings {
     int diffuseSize = 16;       // px per face of the diffuse map (8 px: bilinear errors ~0.5 %)
     int glossy1Size = 8;        // ... of the glossy map at exponent glossy1Exponent
     int glossy2Size = 16;       // ... at glossy2Exponent
-    int prefilterSamples = 144; // lobe samples per glossy-2 texel (from the mirror map)
+    int prefilterSamples = 112; // lobe samples per glossy-2 texel (from the mirror's levels)
     int cascadeSamples = 36;    // lobe samples per glossy-1 texel (from glossy-2, already smooth)
     // Store the maps as RGBA8 RGBM even where float targets exist (tests of the fallback).
     bool forceRgbm = false;

@@ -28,11 +28,17 @@ constexpr float kPi = std::numbers::pi_v<float>;
 constexpr GLint kSourceUnit = 0;
 constexpr GLint kSamplesUnit = 1;
 // The prefilter's LobeSamples block: its binding point (0 and 1 are the mesh pass's, see
-// uniform_blocks.h) and its size in entries (phong_prefilter.frag).
+// uniform_blocks.h) and its size in samples (phong_prefilter.frag).
 constexpr GLuint kLobeSamplesBinding = 2;
-constexpr int kMaxLobeSamples = 1024;
+constexpr int kMaxLobeSamples = 512;
 // A glossy lobe is integrated where cos^n exceeds this fraction of its peak.
 constexpr float kLobeCutoff = 0.01f;
+// glossy-2's samples have density ∝ cos^(this x n) (makeLobePrefilter): between the lobe's
+// own (1, fewest samples in the tails) and equal solid angles (0). Measured with
+// ibl_lookup_test at 104 samples, next to venice's sun: 0.5 gives 0.081 worst, 0.0124 rms;
+// 0.375 0.105, 0.0151; 0.625 0.113, 0.0126; 0.75 0.127, 0.0136 (at 112: 0.5 0.073, 0.0110;
+// 0.75 0.114, 0.0136).
+constexpr double kSampleDensityPower = 0.5;
 // The SH sums' fragments each add up kShGroups coefficients (sh_project.glsl's outputs).
 constexpr int kShGroups = 3;
 // shaders_es/rgbm.glsl's range.
@@ -48,7 +54,7 @@ void checkSettings(const IblSettings& s)
         throw InputError("SH projection needs 16..65536 samples split evenly into 1..1024 partial-sum rows");
     if (s.prefilterSamples < 4 || s.prefilterSamples > kMaxLobeSamples || s.cascadeSamples < 4 ||
         s.cascadeSamples > kMaxLobeSamples || !(s.glossy1Exponent >= 1.0f) || !(s.glossy2Exponent > s.glossy1Exponent))
-        throw InputError("glossy prefilter needs 4..1024 samples and exponents 1 <= n1 < n2");
+        throw InputError("glossy prefilter needs 4..512 samples and exponents 1 <= n1 < n2");
 }
 
 // A cube map of `size`-px faces as a 2D atlas (shaders_es/cube_atlas.glsl's layout): with
@@ -112,7 +118,8 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     : settings_(settings), skybox_(linkProgram(kSkyboxProgram)), atlasCopy_(linkProgram(kAtlasCopyProgram)),
       shProject_(linkProgram(kShProjectProgram)), shProjectEquirect_(linkProgram(kShProjectEquirectProgram)),
       shReduce_(linkProgram(kShReduceProgram)), diffuseFromSH_(linkProgram(kDiffuseFromShProgram)),
-      phongPrefilter_(linkProgram(kPhongPrefilterProgram))
+      phongPrefilter_(linkProgram(kPhongPrefilterProgram)),
+      phongPrefilterLevels_(linkProgram(kPhongPrefilterProgram, "#define SAMPLE_LEVELS 1\n"))
 {
     checkSettings(settings_);
     // Core GLES 3.0 renders to no float format. EXT_color_buffer_float adds RGBA16F and
@@ -163,14 +170,12 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     diffuseSlot_ = uniformLocation(diffuseFromSH_, "uSlot");
     diffuseEnvironmentFromFace_ = uniformLocation(diffuseFromSH_, "uEnvironmentFromFace");
     glUniform1i(uniformLocation(diffuseFromSH_, "uRgbm"), rgbm_);
-    glUseProgram(phongPrefilter_.name());
-    glUniform1i(uniformLocation(phongPrefilter_, "uEnvironment"), kSourceUnit);
-    bindUniformBlock(phongPrefilter_, "LobeSamples", kLobeSamplesBinding);
-    prefilterSampleCount_ = uniformLocation(phongPrefilter_, "uSampleCount");
-    prefilterEnvironmentFromFace_ = uniformLocation(phongPrefilter_, "uEnvironmentFromFace");
-    glUniform1i(uniformLocation(phongPrefilter_, "uRgbm"), rgbm_);
-    prefilterAtlasSize_ = uniformLocation(phongPrefilter_, "uAtlasSize");
-    prefilterSlot_ = uniformLocation(phongPrefilter_, "uSlot");
+    for (const GlProgram* program : {&phongPrefilter_, &phongPrefilterLevels_}) {
+        glUseProgram(program->name());
+        glUniform1i(uniformLocation(*program, "uEnvironment"), kSourceUnit);
+        bindUniformBlock(*program, "LobeSamples", kLobeSamplesBinding);
+        glUniform1i(uniformLocation(*program, "uRgbm"), rgbm_);
+    }
     glUseProgram(atlasCopy_.name());
     glUniform1i(uniformLocation(atlasCopy_, "uSource"), kSourceUnit);
     atlasCopyOffset_ = uniformLocation(atlasCopy_, "uOffset");
@@ -189,14 +194,25 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     // glossy-2 from the mirror map; glossy-1 from glossy-2 (cascaded: a Phong lobe of
     // exponent n1 is close to n2's followed by the one whose angular variance makes up the
     // difference, and the blurred source needs far fewer samples).
-    glossy2_ = makePrefilter(settings_.glossy2Exponent, settings_.prefilterSamples, settings_.mirrorSize);
-    glossy1_ = makePrefilter(cascadedExponent(settings_.glossy1Exponent, settings_.glossy2Exponent),
-                             settings_.cascadeSamples, settings_.glossy2Size);
+    const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
+    glossy2_ = makeLobePrefilter(settings_.glossy2Exponent, settings_.prefilterSamples, fullChain);
+    glossy1_ = makeCapPrefilter(cascadedExponent(settings_.glossy1Exponent, settings_.glossy2Exponent),
+                                settings_.cascadeSamples, settings_.glossy2Size);
+    // glossy-2's program reads a level per sample; glossy-1's reads its source's single
+    // level with a constant lod, llvmpipe's cheaper lookup.
+    glossy2_.program = phongPrefilterLevels_.name();
+    glossy1_.program = phongPrefilter_.name();
+    for (Prefilter* p : {&glossy1_, &glossy2_}) {
+        const GLuint program = p->program;
+        p->environmentFromFace = glGetUniformLocation(program, "uEnvironmentFromFace");
+        p->atlasSize = glGetUniformLocation(program, "uAtlasSize");
+        p->slot = glGetUniformLocation(program, "uSlot");
+        p->sampleCount = glGetUniformLocation(program, "uSampleCount");
+    }
     // The mirror map keeps only the mip levels something reads (the SH and glossy-2 passes
     // read one level each, the mesh shader level 0): llvmpipe builds every level of every
     // face with a blit, 36 of them for a full 64-px chain.
-    const int fullChain = int(std::log2(settings_.mirrorSize)) + 1;
-    mirrorLevels_ = std::clamp(int(std::ceil(std::max(shLod_, glossy2_.lod))) + 1, 1, fullChain);
+    mirrorLevels_ = std::clamp(std::max(int(std::ceil(shLod_)) + 1, glossy2_.levels), 1, fullChain);
     glUseProgram(shProject_.name());
     shProjectAtlasSize_ = uniformLocation(shProject_, "uAtlasSize");
     shProjectSlot_ = uniformLocation(shProject_, "uSlot");
@@ -212,6 +228,11 @@ IblPipeline::IblPipeline(const IblSettings& settings)
     glSamplerParameteri(singleLevel_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glSamplerParameteri(singleLevel_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glSamplerParameteri(singleLevel_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    nearestLevel_ = GlSampler::create(); // the glossy-2 prefilter: a level per sample
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(nearestLevel_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     nearestLevelWrapped_ = GlSampler::create(); // the same for lat-long maps: longitude wraps
     glSamplerParameteri(nearestLevelWrapped_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
     glSamplerParameteri(nearestLevelWrapped_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -260,31 +281,78 @@ void IblPipeline::reserveSlots(int slots) const
     checkGlError("growing the environment-map pipeline's buffers");
 }
 
-IblPipeline::Prefilter IblPipeline::makePrefilter(float exponent, int samples, int sourceSize) const
+IblPipeline::Prefilter IblPipeline::uploadPrefilter(const std::vector<glm::vec4>& samples,
+                                                    const std::vector<glm::vec2>& levels)
 {
-    // Equal-solid-angle samples of the cap where cos^n >= kLobeCutoff, weighted by cos^n and
-    // normalised: the discrete lobe integrates to exactly one, so a constant map stays constant.
-    const float cosMax = std::pow(kLobeCutoff, 1.0f / exponent);
-    const std::vector<glm::vec3> cap = fibonacciCapSamples(samples, cosMax);
-    double total = 0.0;
-    for (const glm::vec3& d : cap)
-        total += std::pow(double(std::max(d.z, 0.0f)), double(exponent));
-    std::vector<float> texels;
-    for (const glm::vec3& d : cap)
-        texels.insert(texels.end(),
-                      {d.x, d.y, d.z, float(std::pow(double(std::max(d.z, 0.0f)), double(exponent)) / total)});
-    if (cap.size() > size_t(kMaxLobeSamples))
+    if (samples.size() > size_t(kMaxLobeSamples))
         throw InputError("glossy prefilter needs at most " + std::to_string(kMaxLobeSamples) + " samples");
-    // The whole block's size (std140: a vec4 per entry), zeros past the samples.
-    texels.resize(size_t(kMaxLobeSamples) * 4, 0.0f);
+    // The whole block (std140: a vec4 per entry): uSamples, then uLevels, zeros past the samples.
+    std::vector<float> block(size_t(kMaxLobeSamples) * 8, 0.0f);
+    for (size_t k = 0; k < samples.size(); ++k) {
+        std::memcpy(&block[k * 4], &samples[k].x, 4 * sizeof(float));
+        block[(size_t(kMaxLobeSamples) + k) * 4] = levels[k].x;
+        block[(size_t(kMaxLobeSamples) + k) * 4 + 1] = levels[k].y;
+    }
     Prefilter p;
     p.samples = GlBuffer::create();
     glBindBuffer(GL_UNIFORM_BUFFER, p.samples.name());
-    glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(texels.size() * sizeof(float)), texels.data(), GL_STATIC_DRAW);
-    p.count = int(cap.size());
-    const float capSolidAngle = 2.0f * kPi * (1.0f - cosMax);
-    p.lod = lodForSolidAngle(sourceSize, capSolidAngle / float(cap.size()));
+    glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(block.size() * sizeof(float)), block.data(), GL_STATIC_DRAW);
+    p.count = int(samples.size());
+    for (const glm::vec2& l : levels)
+        p.levels = std::max(p.levels, int(l.x) + 1);
     return p;
+}
+
+IblPipeline::Prefilter IblPipeline::makeLobePrefilter(float exponent, int count, int sourceLevels) const
+{
+    // Importance sampling with mip levels (after Krivanek & Colbert's filtered importance
+    // sampling, GPU Gems 3 ch. 20): the directions are spread over the lobe's cap with
+    // density ∝ cos^m, m = kSampleDensityPower x n, weighted by cos^n / density and
+    // normalised (a constant map stays constant), and each is read from the mip level whose
+    // texels cover about its own solid angle 1 / (N density): dense, fine samples where the
+    // lobe is high, sparse ones from coarse, pre-averaged levels in the tails, so no radiance
+    // falls between samples. The level depends on the sample alone, the same for every
+    // fragment. m = n (equal weights, the paper's) blurred the lobed sky's peak and aliased
+    // venice's sun (ibl_lookup_test: 0.007-0.009 rms at 64-112 samples); m = 0 is the equal
+    // solid-angle scheme that needed 144 samples.
+    const int size = settings_.mirrorSize;
+    const double texelSolidAngle = 4.0 * double(kPi) / (6.0 * double(size) * double(size));
+    const double m = kSampleDensityPower * double(exponent);
+    // Rounded to float as powerCapSamples takes it, so the density is the directions' own.
+    const double cosMax = double(std::pow(kLobeCutoff, 1.0f / exponent));
+    const std::vector<glm::vec3> directions = powerCapSamples(count, float(m), float(cosMax));
+    std::vector<glm::vec4> samples;
+    std::vector<glm::vec2> levels;
+    double total = 0.0;
+    for (const glm::vec3& d : directions) {
+        const double density = powerCapPdf(double(d.z), m, cosMax);
+        const double lod = 0.5 * std::log2(1.0 / (double(count) * density) / texelSolidAngle);
+        const int level = std::clamp(int(std::lround(lod)), 0, sourceLevels - 1);
+        const double weight = std::pow(double(d.z), double(exponent)) / density;
+        total += weight;
+        samples.emplace_back(d, float(weight));
+        // The clamp half a texel of that level inside the face (cube_atlas.glsl's stMin).
+        levels.emplace_back(float(level), 0.5f / float(std::max(size >> level, 1)));
+    }
+    for (glm::vec4& sample : samples)
+        sample.w = float(double(sample.w) / total);
+    return uploadPrefilter(samples, levels);
+}
+
+IblPipeline::Prefilter IblPipeline::makeCapPrefilter(float exponent, int count, int sourceSize) const
+{
+    // Equal-solid-angle samples of the cap where cos^n >= kLobeCutoff, weighted by cos^n and
+    // normalised: the discrete lobe integrates to exactly one, so a constant map stays
+    // constant. Read from the source's single level (glossy-2, smooth already).
+    const float cosMax = std::pow(kLobeCutoff, 1.0f / exponent);
+    const std::vector<glm::vec3> cap = fibonacciCapSamples(count, cosMax);
+    double total = 0.0;
+    for (const glm::vec3& d : cap)
+        total += std::pow(double(std::max(d.z, 0.0f)), double(exponent));
+    std::vector<glm::vec4> samples;
+    for (const glm::vec3& d : cap)
+        samples.emplace_back(d, float(std::pow(double(std::max(d.z, 0.0f)), double(exponent)) / total));
+    return uploadPrefilter(samples, std::vector<glm::vec2>(cap.size(), glm::vec2(0.0f, 0.5f / float(sourceSize))));
 }
 
 int IblPipeline::maxBankSlots(int wanted) const
@@ -569,18 +637,19 @@ void IblPipeline::prefilterSlots(IblMaps& bank, std::span<const int> slots) cons
     // source: the size of the bank's level read.
     const auto run = [&](const Prefilter& p, GLuint atlas, int size, glm::vec2 source) {
         glBindBufferBase(GL_UNIFORM_BUFFER, kLobeSamplesBinding, p.samples.name());
-        renderFaces(atlas, size, slots, phongPrefilter_.name(), [&](int slot, int face) {
+        renderFaces(atlas, size, slots, p.program, [&](int slot, int face) {
             const glm::mat3 m = environmentFromFace(face);
-            glUniformMatrix3fv(prefilterEnvironmentFromFace_, 1, GL_FALSE, glm::value_ptr(m));
-            glUniform2f(prefilterAtlasSize_, source.x, source.y);
-            glUniform2f(prefilterSlot_, float(slot), float(bank.slots));
-            glUniform1i(prefilterSampleCount_, p.count);
+            glUniformMatrix3fv(p.environmentFromFace, 1, GL_FALSE, glm::value_ptr(m));
+            glUniform2f(p.atlasSize, source.x, source.y);
+            glUniform2f(p.slot, float(slot), float(bank.slots));
+            glUniform1i(p.sampleCount, p.count);
         });
     };
-    readMirrorLevel(bank, glossy2_.lod, [&] {
-        run(glossy2_, bank.glossy2.name(), settings_.glossy2Size,
-            mirrorLevelSize(mirrorLevel(glossy2_.lod), bank.slots));
-    });
+    // Every mirror level, the level of each sample's own choosing (LINEAR_MIPMAP_NEAREST).
+    bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.mirror.name());
+    glBindSampler(GLuint(kSourceUnit), nearestLevel_.name());
+    run(glossy2_, bank.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(0, bank.slots));
+    glBindSampler(GLuint(kSourceUnit), 0);
     // glossy-2 has a single level: read as it is.
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.glossy2.name());
     run(glossy1_, bank.glossy1.name(), settings_.glossy1Size,

@@ -88,9 +88,17 @@ private:
     struct Prefilter {
         GlBuffer samples; // the LobeSamples uniform block of phong_prefilter.frag
         int count = 0;
-        float lod = 0.0f;
+        int levels = 1;     // the source's levels read: 0 .. levels - 1
+        GLuint program = 0; // phongPrefilter_ or phongPrefilterLevels_, and its uniforms
+        GLint environmentFromFace = -1, atlasSize = -1, slot = -1, sampleCount = -1;
     };
-    Prefilter makePrefilter(float exponent, int samples, int sourceSize) const;
+    // Samples (direction, weight) and their levels (level, clamp) into a LobeSamples block.
+    static Prefilter uploadPrefilter(const std::vector<glm::vec4>& samples, const std::vector<glm::vec2>& levels);
+    // glossy-2's: importance-sampled, from the mirror's levels (of sourceLevels at most).
+    Prefilter makeLobePrefilter(float exponent, int count, int sourceLevels) const;
+    // glossy-1's cascade: equal-solid-angle samples weighted by the lobe, from the single
+    // level of sourceSize-px faces.
+    Prefilter makeCapPrefilter(float exponent, int count, int sourceSize) const;
     // Draws the six size-px faces of each listed slot of the cube atlas bank `atlas` with
     // `program` (perFace sets per-face uniforms).
     void renderFaces(GLuint atlas, int size, std::span<const int> slots, GLuint program,
@@ -123,11 +131,11 @@ private:
     GLint equirectLod_ = -1;
     GlProgram shReduce_;
     GlProgram diffuseFromSH_;
-    GlProgram phongPrefilter_;
+    GlProgram phongPrefilter_;       // one source level (glossy-1's cascade)
+    GlProgram phongPrefilterLevels_; // a level per sample (glossy-2, SAMPLE_LEVELS)
     GLint skyboxEnvironmentFromFace_ = -1, skyboxLod_ = -1, skyboxIntensity_ = -1;
     GLint diffuseEnvironmentFromFace_ = -1;
-    GLint prefilterEnvironmentFromFace_ = -1, prefilterAtlasSize_ = -1, prefilterSampleCount_ = -1;
-    GLint prefilterSlot_ = -1, diffuseSlot_ = -1, shProjectSlot_ = -1, shProjectCellOrigin_ = -1;
+    GLint diffuseSlot_ = -1, shProjectSlot_ = -1, shProjectCellOrigin_ = -1;
     GLint shProjectAtlasSize_ = -1, atlasCopyOffset_ = -1;
     GlTexture shSamples_; // RGBA32F: rows x (N / rows) directions
     float shLod_ = 0.0f;
@@ -136,6 +144,7 @@ private:
     Prefilter glossy1_;
     Prefilter glossy2_;
     GlSampler singleLevel_;
+    GlSampler nearestLevel_;
     GlSampler nearestLevelWrapped_;
     GlFramebuffer plainFramebuffer_;       // colour only: the SH coefficients
     GlFramebuffer partialSumsFramebuffer_; // the partial sums' layers, one attachment each
