@@ -71,8 +71,8 @@ void printGraphics()
     std::printf("EGL/GLES (headless):\n");
     try {
         const GlInfo gl = probeGl();
-        std::printf("  EGL %s (%s) on the %s platform, client APIs: %s\n", gl.eglVersion.c_str(),
-                    gl.eglVendor.c_str(), gl.eglPlatform.c_str(), gl.eglClientApis.c_str());
+        std::printf("  EGL %s (%s) on the %s platform, client APIs: %s\n", gl.eglVersion.c_str(), gl.eglVendor.c_str(),
+                    gl.eglPlatform.c_str(), gl.eglClientApis.c_str());
         std::printf("  %s, %s\n  renderer: %s\n", gl.glVersion.c_str(), gl.glslVersion.c_str(), gl.glRenderer.c_str());
         std::printf("  driver: %s%s%s\n", gl.driverName.empty() ? "(not reported)" : gl.driverName.c_str(),
                     gl.drmDevice.empty() ? "" : " on ", gl.drmDevice.c_str());
