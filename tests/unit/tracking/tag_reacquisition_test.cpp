@@ -101,6 +101,21 @@ TEST(Reacquisition, TagMissedOnOneFrameIsFoundOnTheNext)
     }
 }
 
+// Tag 0 hidden from frame `start` for 1 to 2 full_frame_every + 1 frames, tag 1 always in
+// view: tag 0 is found on the first frame it shows again (the tracker reset before each).
+void expectOcclusionsEndReacquiredAtOnce(TagTracker& tracker, int start)
+{
+    for (int length = 1; length <= 2 * kFullFrameEvery + 1; ++length) {
+        SCOPED_TRACE("occluded for " + std::to_string(length) + " frames");
+        tracker.reset(camera());
+        for (int frame = 0; frame <= start + length; ++frame) {
+            const auto detections = tracker.detect(drawTags(twoTags(frame, start, start + length)));
+            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
+            EXPECT_EQ(found(detections, 0), frame < start || frame >= start + length) << "frame " << frame;
+        }
+    }
+}
+
 // An occlusion of every length from 1 to 2 * full_frame_every + 1 frames, so that its end
 // falls k frames after a full-frame search for every k in 1..full_frame_every-1 (the search
 // made when the tag went missing, and the scheduled ones after it): the tag is found on the
@@ -109,17 +124,8 @@ TEST(Reacquisition, OcclusionEndingAtAnyFrameIsReacquiredAtOnce)
 {
     TagSizes sizes;
     sizes.fallback = 0.08;
-    constexpr int kStart = 3;
     TagTracker tracker(roiConfig(), camera(), sizes);
-    for (int length = 1; length <= 2 * kFullFrameEvery + 1; ++length) {
-        SCOPED_TRACE("occluded for " + std::to_string(length) + " frames");
-        tracker.reset(camera());
-        for (int frame = 0; frame <= kStart + length; ++frame) {
-            const auto detections = tracker.detect(drawTags(twoTags(frame, kStart, kStart + length)));
-            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
-            EXPECT_EQ(found(detections, 0), frame < kStart || frame >= kStart + length) << "frame " << frame;
-        }
-    }
+    expectOcclusionsEndReacquiredAtOnce(tracker, 3);
 }
 
 // coarse_every = 1: a tag entering the view while another one is followed is found on the first
@@ -318,16 +324,34 @@ TagSizes sceneSizes()
     return sizes;
 }
 
+// Two trackers with a coarse search every 3 frames: `held` knows only the scene's tags (so
+// it slows its searches for new tags while it holds them all), `paced` poses any tag (a
+// default size), so its searches keep their pace.
+struct HeldAndPaced {
+    static TagSizes anyTag()
+    {
+        TagSizes sizes;
+        sizes.fallback = 0.08;
+        return sizes;
+    }
+    static TrackingConfig config()
+    {
+        TrackingConfig c = roiConfig();
+        c.coarseEvery = 3;
+        return c;
+    }
+    TagTracker held{config(), camera(), sceneSizes()};
+    TagTracker paced{config(), camera(), anyTag()};
+};
+
 // While every scene tag is found frame after frame, the searches for new tags (the full-frame
 // one every full_frame_every frames, the coarse one every coarse_every) run six times less
 // often; with a default size any tag in view may be posed, so they keep their pace.
 TEST(Reacquisition, SearchesForNewTagsSlowDownWhileEverySceneTagIsHeld)
 {
-    TagSizes anyTag;
-    anyTag.fallback = 0.08;
-    TrackingConfig config = roiConfig();
-    config.coarseEvery = 3;
-    TagTracker held(config, camera(), sceneSizes()), paced(config, camera(), anyTag);
+    HeldAndPaced trackers;
+    TagTracker& held = trackers.held;
+    TagTracker& paced = trackers.paced;
     constexpr int kFrames = 6 * kFullFrameEvery;
     for (int frame = 0; frame < kFrames; ++frame) {
         const Image8 image = drawTags(twoTags(frame, 0, 0));
@@ -347,11 +371,9 @@ TEST(Reacquisition, SearchesForNewTagsSlowDownWhileEverySceneTagIsHeld)
 // schedules keep their phase, so re-acquisition is as quick as without the slowdown.
 TEST(Reacquisition, SchedulesKeepTheirPhaseThroughTheSlowdown)
 {
-    TagSizes anyTag;
-    anyTag.fallback = 0.08;
-    TrackingConfig config = roiConfig();
-    config.coarseEvery = 3;
-    TagTracker held(config, camera(), sceneSizes()), paced(config, camera(), anyTag);
+    HeldAndPaced trackers;
+    TagTracker& held = trackers.held;
+    TagTracker& paced = trackers.paced;
     constexpr int kGone = 3 * kFullFrameEvery - 3; // tag 0 leaves after 27 frames held
     for (int frame = 0; frame < kGone + 3 * kFullFrameEvery; ++frame) {
         const uint64_t heldCoarse = held.searchCounts().coarseSearches;
@@ -388,16 +410,7 @@ TEST(Reacquisition, SceneTagsMissedAtAnyPhaseOfTheSlowScheduleAreFoundAtOnce)
             EXPECT_EQ(found(detections, 0), frame != hidden) << "frame " << frame;
         }
     }
-    constexpr int kStart = 25;
-    for (int length = 1; length <= 2 * kFullFrameEvery + 1; ++length) {
-        SCOPED_TRACE("occluded for " + std::to_string(length) + " frames");
-        tracker.reset(camera());
-        for (int frame = 0; frame <= kStart + length; ++frame) {
-            const auto detections = tracker.detect(drawTags(twoTags(frame, kStart, kStart + length)));
-            ASSERT_TRUE(found(detections, 1)) << "frame " << frame;
-            EXPECT_EQ(found(detections, 0), frame < kStart || frame >= kStart + length) << "frame " << frame;
-        }
-    }
+    expectOcclusionsEndReacquiredAtOnce(tracker, 25);
 }
 
 // A square tag `side` px wide with its top-left corner at (x, y), in the AprilTag order.
