@@ -11,10 +11,22 @@ uniform sampler2D uFrame;  // the frame so far, sRGB-encoded (a copy: the target
 uniform sampler2D uBloom;  // half the frame's size, or unused
 uniform sampler2D uGlare;  // smaller than the frame by 1 / uGlareScale, or unused
 uniform float uGlareScale;
-uniform vec2 uIntensity;   // x: bloom, y: glare (0: off)
-uniform bool uRgbm;
+uniform vec2 uIntensity;   // x: bloom, y: glare
 
 out vec4 fragColor;
+
+// Compile-time choices (LensEffects links a program per image format and effect): on
+// llvmpipe a branch on a uniform runs both sides, texture reads and all.
+#ifndef LENS_RGBM
+#define LENS_RGBM 0
+#endif
+const bool kRgbm = LENS_RGBM != 0;
+#ifndef LENS_BLOOM
+#define LENS_BLOOM 0
+#endif
+#ifndef LENS_GLARE
+#define LENS_GLARE 0
+#endif
 
 #include "rgbm.glsl"
 #include "lens.glsl"
@@ -58,10 +70,12 @@ vec3 inverseResponse(vec3 y)
 void main()
 {
     vec3 added = vec3(0.0);
-    if (uIntensity.x > 0.0)
-        added += uIntensity.x * sampleRadiance(uBloom, gl_FragCoord.xy * 0.5, uRgbm);
-    if (uIntensity.y > 0.0)
-        added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * uGlareScale, uRgbm);
+#if LENS_BLOOM
+    added += uIntensity.x * sampleRadiance(uBloom, gl_FragCoord.xy * 0.5, kRgbm);
+#endif
+#if LENS_GLARE
+    added += uIntensity.y * sampleRadiance(uGlare, gl_FragCoord.xy * uGlareScale, kRgbm);
+#endif
     if (max(added.r, max(added.g, added.b)) < kNothing)
         discard;
     vec3 frame = decodeSrgb(texelFetch(uFrame, ivec2(gl_FragCoord.xy), 0).rgb);

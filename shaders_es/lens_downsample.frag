@@ -7,10 +7,19 @@ precision highp sampler2D;
 
 uniform sampler2D uSource;
 uniform float uThreshold;
-uniform bool uSourceRgbm; // the radiance image's format may differ from the pyramid's
-uniform bool uRgbm;
 
 out vec4 fragColor;
+
+// Compile-time choices (LensEffects links a program per image format and effect): on
+// llvmpipe a branch on a uniform runs both sides, texture reads and all.
+#ifndef LENS_RGBM
+#define LENS_RGBM 0
+#endif
+const bool kRgbm = LENS_RGBM != 0;
+#ifndef LENS_SOURCE_RGBM
+#define LENS_SOURCE_RGBM 0
+#endif
+const bool kSourceRgbm = LENS_SOURCE_RGBM != 0; // the radiance image's format may differ from the pyramid's
 
 #include "rgbm.glsl"
 #include "lens.glsl"
@@ -18,9 +27,9 @@ out vec4 fragColor;
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy) * 2;
-    vec3 sum = max(fetchRadiance(uSource, p, uSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 0), uSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(0, 1), uSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 1), uSourceRgbm) - uThreshold, 0.0);
-    fragColor = encodeMapTexel(0.25 * sum, uRgbm);
+    vec3 sum = max(fetchRadiance(uSource, p, kSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(1, 0), kSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(0, 1), kSourceRgbm) - uThreshold, 0.0) +
+               max(fetchRadiance(uSource, p + ivec2(1, 1), kSourceRgbm) - uThreshold, 0.0);
+    fragColor = encodeMapTexel(0.25 * sum, kRgbm);
 }

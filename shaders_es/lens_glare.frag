@@ -14,9 +14,15 @@ uniform vec2 uSteps[kMaxStreaks]; // per streak: one sample's offset along it, s
 uniform int uStreaks;
 uniform int uSamples;
 uniform float uWeights[kMaxSamples]; // by sample index, over all streaks summing to 1
-uniform bool uRgbm;
 
 out vec4 fragColor;
+
+// Compile-time choices (LensEffects links a program per image format and effect): on
+// llvmpipe a branch on a uniform runs both sides, texture reads and all.
+#ifndef LENS_RGBM
+#define LENS_RGBM 0
+#endif
+const bool kRgbm = LENS_RGBM != 0;
 
 #include "rgbm.glsl"
 #include "lens.glsl"
@@ -25,14 +31,14 @@ void main()
 {
     vec2 p = gl_FragCoord.xy;
     // The centre sample belongs to every streak: taken once, with their summed weight.
-    vec3 sum = float(uStreaks) * uWeights[0] * fetchRadiance(uSource, ivec2(p), uRgbm);
+    vec3 sum = float(uStreaks) * uWeights[0] * fetchRadiance(uSource, ivec2(p), kRgbm);
     for (int s = 0; s < uStreaks; ++s)
         for (int i = 1; i < uSamples; ++i) {
             vec2 q = p - uSteps[s] * float(i);
             // RGBM is not filterable: the nearest texel (each sample still moves energy whole).
-            vec3 texel = uRgbm ? fetchRadiance(uSource, ivec2(floor(q)), true)
+            vec3 texel = kRgbm ? fetchRadiance(uSource, ivec2(floor(q)), true)
                                : textureLod(uSource, q / vec2(textureSize(uSource, 0)), 0.0).rgb;
             sum += uWeights[i] * texel;
         }
-    fragColor = encodeMapTexel(sum, uRgbm);
+    fragColor = encodeMapTexel(sum, kRgbm);
 }

@@ -10,16 +10,22 @@ precision highp sampler2D;
 uniform sampler2D uLevel;
 uniform sampler2D uCoarser;
 uniform float uWeight;
-uniform bool uRgbm;
 
 out vec4 fragColor;
+
+// Compile-time choices (LensEffects links a program per image format and effect): on
+// llvmpipe a branch on a uniform runs both sides, texture reads and all.
+#ifndef LENS_RGBM
+#define LENS_RGBM 0
+#endif
+const bool kRgbm = LENS_RGBM != 0;
 
 #include "rgbm.glsl"
 #include "lens.glsl"
 
 void main()
 {
-    vec3 level = fetchRadiance(uLevel, ivec2(gl_FragCoord.xy), uRgbm);
-    vec3 coarser = sampleRadiance(uCoarser, gl_FragCoord.xy * 0.5, uRgbm);
-    fragColor = encodeMapTexel(mix(coarser, level, uWeight), uRgbm);
+    vec3 level = fetchRadiance(uLevel, ivec2(gl_FragCoord.xy), kRgbm);
+    vec3 coarser = sampleRadiance(uCoarser, gl_FragCoord.xy * 0.5, kRgbm);
+    fragColor = encodeMapTexel(mix(coarser, level, uWeight), kRgbm);
 }

@@ -11,6 +11,7 @@
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/tile_cover.h"
 
 namespace lumar {
 namespace {
@@ -34,6 +35,20 @@ constexpr float kGlareSampleSpacing = 2.0f;
 // configured length (where it is e^-4 = 2 % of its start).
 constexpr float kGlareFalloff = 4.0f;
 constexpr int kMaxBloomLevels = 8;
+// Culled effects are drawn in tiles of this many pixels: the larger, the fewer draws and the
+// more pixels drawn for nothing around each bright spot.
+constexpr int kCullTile = 32;
+// Culled passes draw this many texels past what the next pass reads of them: each step up the
+// pyramid, the glare and the composite read their source bilinearly, one texel round its
+// footprint.
+constexpr int kCullMargin = 2;
+
+// The texels of a level of `scale` pixels each that cover `pixels`, grown by kCullMargin.
+PixelRect levelTexels(const PixelRect& pixels, int scale)
+{
+    return {pixels.x0 / scale - kCullMargin, pixels.y0 / scale - kCullMargin,
+            (pixels.x1 + scale - 1) / scale + kCullMargin, (pixels.y1 + scale - 1) / scale + kCullMargin};
+}
 
 void checkOptions(const LensOptions& o)
 {
@@ -63,6 +78,16 @@ bool softwareRasteriser()
            renderer.find("swrast") != std::string::npos;
 }
 
+std::string rgbmDefine(bool rgbm)
+{
+    return std::string("#define LENS_RGBM ") + (rgbm ? "1" : "0") + "\n";
+}
+
+std::string sourceRgbmDefine(bool rgbm)
+{
+    return std::string("#define LENS_SOURCE_RGBM ") + (rgbm ? "1" : "0") + "\n";
+}
+
 void bindTexture(GLint unit, GLuint texture)
 {
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
@@ -74,10 +99,9 @@ void bindTexture(GLint unit, GLuint texture)
 LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options, bool rgbm)
     : options_(options), radianceRgbm_(rgbm), rgbm_(rgbm || options.images == LensImageFormat::Rgbm ||
                                                     (options.images == LensImageFormat::Auto && softwareRasteriser())),
+      culled_(options.culling == LensCulling::Culled || (options.culling == LensCulling::Auto && softwareRasteriser())),
       width_(target.width()), height_(target.height()), samples_(target.samples()),
-      targetFramebuffer_(target.drawFramebuffer()), downsample_(linkProgram(kLensDownsampleProgram)),
-      upsample_(linkProgram(kLensUpsampleProgram)), glareProgram_(linkProgram(kLensGlareProgram)),
-      composite_(linkProgram(kLensCompositeProgram))
+      targetFramebuffer_(target.drawFramebuffer())
 {
     checkOptions(options_);
     const GLenum format = radianceRgbm_ ? GL_RGBA8 : GL_RGBA16F;
@@ -126,24 +150,36 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, frameCopy_.texture.name(), 0);
     checkFramebufferComplete("the lens effects' copy of the frame");
 
-    const GLuint programs[] = {downsample_.name(), upsample_.name(), glareProgram_.name(), composite_.name()};
-    for (const GLuint program : programs) {
-        glUseProgram(program);
-        glUniform1i(glGetUniformLocation(program, "uRgbm"), rgbm_ ? 1 : 0);
+    // The image formats and the effects that are on are compiled into the programs: on
+    // llvmpipe a branch on a uniform runs both sides, and the composite read the bloom and
+    // the glare both ways (bilinear and texel by texel) whichever was on (issue 18: the car
+    // scene with bloom on llvmpipe: post 27.7 -> 21.7 ms of CPU).
+    const std::string formatDefine = rgbmDefine(rgbm_);
+    downsample_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(rgbm_));
+    if (radianceRgbm_ != rgbm_)
+        brightPass_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(radianceRgbm_));
+    for (const GlProgram* program : {&downsample_, &brightPass_}) {
+        if (!*program)
+            continue;
+        glUseProgram(program->name());
+        glUniform1i(uniformLocation(*program, "uSource"), 0);
     }
-    glUseProgram(downsample_.name());
-    glUniform1i(uniformLocation(downsample_, "uSource"), 0);
-    sourceRgbm_ = uniformLocation(downsample_, "uSourceRgbm");
-    glUseProgram(upsample_.name());
-    glUniform1i(uniformLocation(upsample_, "uLevel"), 0);
-    glUniform1i(uniformLocation(upsample_, "uCoarser"), 1);
+    const bool bloom = options_.bloom && bloomLevels_ > 0;
+    if (options_.bloom && bloomLevels_ > 1) {
+        upsample_ = linkProgram(kLensUpsampleProgram, formatDefine);
+        glUseProgram(upsample_.name());
+        glUniform1i(uniformLocation(upsample_, "uLevel"), 0);
+        glUniform1i(uniformLocation(upsample_, "uCoarser"), 1);
+    }
+    composite_ =
+        linkProgram(kLensCompositeProgram, formatDefine + "#define LENS_BLOOM " + (bloom ? "1" : "0") +
+                                               "\n#define LENS_GLARE " + (glare_.width > 0 ? "1" : "0") + "\n");
     glUseProgram(composite_.name());
     glUniform1i(uniformLocation(composite_, "uFrame"), 0);
-    glUniform1i(uniformLocation(composite_, "uBloom"), 1);
-    glUniform1i(uniformLocation(composite_, "uGlare"), 2);
-    glUniform1f(uniformLocation(composite_, "uGlareScale"), 1.0f / float(kGlareScale));
-    glUniform2f(uniformLocation(composite_, "uIntensity"),
-                options_.bloom && bloomLevels_ > 0 ? options_.bloomIntensity : 0.0f,
+    glUniform1i(optionalUniformLocation(composite_, "uBloom"), 1);
+    glUniform1i(optionalUniformLocation(composite_, "uGlare"), 2);
+    glUniform1f(optionalUniformLocation(composite_, "uGlareScale"), 1.0f / float(kGlareScale));
+    glUniform2f(optionalUniformLocation(composite_, "uIntensity"), bloom ? options_.bloomIntensity : 0.0f,
                 glare_.width > 0 ? options_.glareIntensity : 0.0f);
 
     if (glare_.width > 0) {
@@ -169,6 +205,7 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
         }
         for (GLfloat& weight : weights)
             weight = GLfloat(weight / total);
+        glareProgram_ = linkProgram(kLensGlareProgram, formatDefine);
         glUseProgram(glareProgram_.name());
         glUniform1i(uniformLocation(glareProgram_, "uSource"), 0);
         glUniform2fv(uniformLocation(glareProgram_, "uSteps"), kMaxStreaks, steps.data());
@@ -217,21 +254,91 @@ void LensEffects::blendingVirtual(bool blending) const
     glDrawBuffers(2, blending ? first : both);
 }
 
-void LensEffects::drawInto(const Level& level) const
+void LensEffects::drawInto(Level& level, const PixelRect& texels)
 {
+    const PixelRect whole{0, 0, level.width, level.height};
+    level.drawn = intersection(texels, whole);
     glBindFramebuffer(GL_FRAMEBUFFER, level.framebuffer.name());
     glViewport(0, 0, level.width, level.height);
+    if (level.drawn.empty())
+        return;
+    const bool scissored =
+        level.drawn.x0 > 0 || level.drawn.y0 > 0 || level.drawn.x1 < level.width || level.drawn.y1 < level.height;
+    if (scissored) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(level.drawn.x0, level.drawn.y0, level.drawn.x1 - level.drawn.x0, level.drawn.y1 - level.drawn.y0);
+    }
     drawFullscreenTriangle();
+    if (scissored)
+        glDisable(GL_SCISSOR_TEST);
+}
+
+int LensEffects::reachPixels() const
+{
+    // Bloom: a bright pixel's coarsest texel (2^levels pixels) reaches 2^levels - 1 pixels past
+    // it, every step up the pyramid one texel of that step further (2^levels - 2 in all) and
+    // the composite's bilinear read 2 more. Glare: the rays.
+    const int bloom = options_.bloom ? 2 << bloomLevels_ : 0;
+    const int glare = glare_.width > 0 ? int(std::ceil(options_.glareLength)) + 2 * kGlareScale : 0;
+    return std::max(bloom, glare) + 4;
+}
+
+std::vector<PixelRect> LensEffects::litTiles(const PixelRect& area) const
+{
+    // The bright pass's image (half size, the threshold applied) is where all of the effects'
+    // light comes from: a tile beyond reach of its lit texels gets nothing. Only the texels
+    // under `area` can be lit (reach() bounds the objects).
+    const Level& bright = down_[0];
+    const PixelRect texels = intersection(levelTexels(area, 2), {0, 0, bright.width, bright.height});
+    if (texels.empty())
+        return {};
+    const int w = texels.x1 - texels.x0, h = texels.y1 - texels.y0;
+    std::vector<uint8_t> lit(size_t(w) * size_t(h));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, bright.framebuffer.name());
+    if (rgbm_) {
+        // RGBM's multiplier is never 0: light is in the colour bytes.
+        std::vector<uint8_t> rgba(lit.size() * 4);
+        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        for (size_t i = 0; i < lit.size(); ++i)
+            lit[i] = (rgba[4 * i] | rgba[4 * i + 1] | rgba[4 * i + 2]) != 0;
+    } else {
+        std::vector<float> rgba(lit.size() * 4);
+        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
+        for (size_t i = 0; i < lit.size(); ++i)
+            lit[i] = rgba[4 * i] > 0.0f || rgba[4 * i + 1] > 0.0f || rgba[4 * i + 2] > 0.0f;
+    }
+    checkGlError("reading the lens effects' bright image");
+
+    TileCover tiles(width_, height_, kCullTile);
+    std::vector<uint8_t> litTile(size_t(tiles.columns()) * size_t(tiles.rows()));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (lit[size_t(y) * size_t(w) + size_t(x)])
+                litTile[size_t(std::min((texels.y0 + y) * 2 / kCullTile, tiles.rows() - 1)) * size_t(tiles.columns()) +
+                        size_t(std::min((texels.x0 + x) * 2 / kCullTile, tiles.columns() - 1))] = 1;
+    const double reach = reachPixels();
+    for (int row = 0; row < tiles.rows(); ++row)
+        for (int column = 0; column < tiles.columns(); ++column)
+            if (litTile[size_t(row) * size_t(tiles.columns()) + size_t(column)]) {
+                const double x0 = column * kCullTile, y0 = row * kCullTile;
+                const std::array<glm::dvec2, 4> square{glm::dvec2(x0, y0), glm::dvec2(x0 + kCullTile, y0),
+                                                       glm::dvec2(x0 + kCullTile, y0 + kCullTile),
+                                                       glm::dvec2(x0, y0 + kCullTile)};
+                tiles.addConvex(square, reach);
+            }
+    std::vector<PixelRect> rects;
+    for (const PixelRect& rect : tiles.rects()) {
+        const PixelRect inside = intersection(rect, area);
+        if (!inside.empty())
+            rects.push_back(inside);
+    }
+    return rects;
 }
 
 PixelRect LensEffects::reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
                              const glm::mat4& clipFromCamera) const
 {
-    // Bloom: the coarsest level's texels (2^levels pixels) spread about two of them; beyond
-    // that lies under 1 % of its energy (the tests' bound at twice the radius). Glare: the rays.
-    const int bloom = options_.bloom ? 2 << bloomLevels_ : 0;
-    const int glare = glare_.width > 0 ? int(std::ceil(options_.glareLength)) + 2 * kGlareScale : 0;
-    const int margin = std::max(bloom, glare) + 4;
+    const int margin = reachPixels();
     PixelRect rect;
     for (const DrawItem& item : items) {
         if (item.phantom)
@@ -272,6 +379,7 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
 {
     if (area.empty())
         return;
+    glDisable(GL_SCISSOR_TEST);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
@@ -283,14 +391,42 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
         glReadBuffer(GL_COLOR_ATTACHMENT0);
     }
 
-    // Bright pass and the pyramid.
-    glUseProgram(downsample_.name());
-    const GLint threshold = uniformLocation(downsample_, "uThreshold");
+    // Bright pass and the pyramid. Culled, each level is cleared and drawn under `area` only:
+    // the radiance outside it is 0 (reach() bounds the objects), so the level is whole.
+    constexpr PixelRect kEverything{0, 0, 1 << 30, 1 << 30};
     for (size_t k = 0; k < down_.size(); ++k) {
-        glUniform1i(sourceRgbm_, k == 0 ? radianceRgbm_ : rgbm_);
+        const GlProgram& program = k == 0 && brightPass_ ? brightPass_ : downsample_;
+        if (k <= 1) {
+            glUseProgram(program.name());
+            glUniform1f(uniformLocation(program, "uThreshold"), k == 0 ? options_.threshold : 0.0f);
+        }
         bindTexture(0, k == 0 ? radiance_.name() : down_[k - 1].texture.name());
-        glUniform1f(threshold, k == 0 ? options_.threshold : 0.0f);
-        drawInto(down_[k]);
+        if (culled_) {
+            glBindFramebuffer(GL_FRAMEBUFFER, down_[k].framebuffer.name());
+            const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
+            glClearBufferfv(GL_COLOR, 0, zero);
+        }
+        drawInto(down_[k], culled_ ? levelTexels(area, 2 << k) : kEverything);
+        if (culled_)
+            down_[k].drawn = {0, 0, down_[k].width, down_[k].height};
+    }
+    // Culled: the rest is drawn only within reach of the bright texels, the pyramid's levels
+    // (each read one texel round its footprint by the level above) over their bounds.
+    std::vector<PixelRect> tiles{area};
+    if (culled_)
+        tiles = litTiles(area);
+    PixelRect bounds;
+    for (const PixelRect& tile : tiles)
+        bounds = bounding(bounds, tile);
+    if (bounds.empty()) {
+        for (Level& level : up_)
+            level.drawn = {};
+        glare_.drawn = {};
+        target.bindForDrawing();
+        glUseProgram(0);
+        glActiveTexture(GL_TEXTURE0);
+        checkGlError("drawing the lens effects");
+        return;
     }
     // Bloom: up from the coarsest level, each level's share 1 / (levels from it down).
     if (options_.bloom && bloomLevels_ > 1) {
@@ -301,27 +437,29 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
             bindTexture(1, k + 2 == bloomLevels_ ? down_[size_t(k + 1)].texture.name()
                                                  : up_[size_t(k + 1)].texture.name());
             glUniform1f(weight, 1.0f / float(bloomLevels_ - k));
-            drawInto(up_[size_t(k)]);
+            drawInto(up_[size_t(k)], culled_ ? levelTexels(bounds, 2 << k) : kEverything);
         }
     }
     if (glare_.width > 0) {
         glUseProgram(glareProgram_.name());
         bindTexture(0, down_[kGlareLevel].texture.name());
-        drawInto(glare_);
+        drawInto(glare_, culled_ ? levelTexels(bounds, kGlareScale) : kEverything);
     }
 
-    copyFrame(target, area);
+    copyFrame(target, bounds);
     target.bindForDrawing();
     // Only where the effects can add light: the rest of the frame stays as it is, unread.
     glEnable(GL_SCISSOR_TEST);
-    glScissor(area.x0, area.y0, area.x1 - area.x0, area.y1 - area.y0);
     glUseProgram(composite_.name());
     bindTexture(0, frameCopy_.texture.name());
     bindTexture(1, !options_.bloom || down_.empty() ? 0
                    : bloomLevels_ > 1               ? up_[0].texture.name()
                                                     : down_[0].texture.name());
     bindTexture(2, glare_.texture.name());
-    drawFullscreenTriangle();
+    for (const PixelRect& tile : tiles) {
+        glScissor(tile.x0, tile.y0, tile.x1 - tile.x0, tile.y1 - tile.y0);
+        drawFullscreenTriangle();
+    }
     glDisable(GL_SCISSOR_TEST);
     glUseProgram(0);
     glActiveTexture(GL_TEXTURE0);
@@ -348,9 +486,11 @@ ImageF LensEffects::read(const Level& level) const
     }
     checkGlError("reading a lens-effect image");
     for (int y = 0; y < level.height; ++y)
-        for (int x = 0; x < level.width; ++x)
+        for (int x = 0; x < level.width; ++x) {
+            const bool drawn = x >= level.drawn.x0 && x < level.drawn.x1 && y >= level.drawn.y0 && y < level.drawn.y1;
             for (int c = 0; c < 3; ++c)
-                image.at(x, y)[c] = rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4 + size_t(c)];
+                image.at(x, y)[c] = drawn ? rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4 + size_t(c)] : 0.0f;
+        }
     return image;
 }
 

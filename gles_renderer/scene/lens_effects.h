@@ -9,7 +9,10 @@
 // each level has an equal share; the glare streaks gather the eighth-size level along the
 // configured rays. Both conserve the bright light's energy (sum of radiance x area), scaled by
 // their intensities, and are added to the frame in linear light (lens_composite.frag), which
-// leaves every pixel they do not reach exactly as it was.
+// leaves every pixel they do not reach exactly as it was. Culled (LensCulling; a software
+// rasteriser's choice) everything past the bright pass is drawn only in the tiles within
+// reach of its lit texels, read back once: the car scene with bloom on llvmpipe, post
+// 21.7 -> 8.2 ms of CPU (the composite had shaded 578k pixels for 22k that change).
 #pragma once
 
 #include <span>
@@ -60,12 +63,14 @@ public:
     // Test access. The radiance image the objects are drawn into (the frame's size).
     [[nodiscard]] GLuint radianceTexture() const { return radiance_.name(); }
     // The bright light above the threshold, the bloom and the glare as last computed, linear,
-    // decoded from RGBM; each at its own size (half, half and an eighth of the frame's).
+    // decoded from RGBM; each at its own size (half, half and an eighth of the frame's). Where
+    // culling left texels undrawn they read 0: what the composite takes them for.
     [[nodiscard]] ImageF readBright() const;
     [[nodiscard]] ImageF readBloom() const;
     [[nodiscard]] ImageF readGlare() const;
     [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
     [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
+    [[nodiscard]] bool culled() const { return culled_; }
 
 private:
     struct Level {
@@ -73,15 +78,22 @@ private:
         int height = 0;
         GlTexture texture;
         GlFramebuffer framebuffer;
+        PixelRect drawn; // culled: the texels last drawn (the rest is stale); whole: all of it
     };
     Level makeLevel(int width, int height) const;
-    void drawInto(const Level& level) const;
+    void drawInto(Level& level, const PixelRect& texels);
+    // Culled: the frame's tiles within reach of a texel of the bright image that holds light,
+    // as disjoint rectangles within `area`.
+    [[nodiscard]] std::vector<PixelRect> litTiles(const PixelRect& area) const;
+    // How far from a bright pixel the bloom and the glare reach, in pixels.
+    [[nodiscard]] int reachPixels() const;
     [[nodiscard]] ImageF read(const Level& level) const;
     void copyFrame(const RenderTarget& target, const PixelRect& area);
 
     LensOptions options_;
     bool radianceRgbm_;
     bool rgbm_;
+    bool culled_; // LensCulling, decided
     int width_;
     int height_;
     int samples_;
@@ -92,12 +104,12 @@ private:
     std::vector<Level> down_; // [0]: half size, thresholded
     std::vector<Level> up_;   // up_[k]: the bloom from level k down (up_.back() unused)
     int bloomLevels_ = 0;
-    GLint sourceRgbm_ = -1; // lens_downsample.frag's
     Level glare_;
-    Level frameCopy_; // RGBA8 copy of the frame, read by the composite
-    GlProgram downsample_;
-    GlProgram upsample_;
-    GlProgram glareProgram_;
+    Level frameCopy_;        // RGBA8 copy of the frame, read by the composite
+    GlProgram downsample_;   // a step down the pyramid
+    GlProgram brightPass_;   // its first step, where the radiance's format is not the pyramid's
+    GlProgram upsample_;     // with the bloom only
+    GlProgram glareProgram_; // with the glare only
     GlProgram composite_;
 };
 

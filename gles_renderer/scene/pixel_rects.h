@@ -30,6 +30,12 @@ struct PixelRect {
     return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
 }
 
+// The rectangle both a and b cover; empty (not necessarily {}) where they do not overlap.
+[[nodiscard]] inline PixelRect intersection(const PixelRect& a, const PixelRect& b)
+{
+    return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+}
+
 // Disjoint rectangles whose union is the union of `rects` (empty ones ignored): the grid of
 // every rectangle's edges, its covered cells merged into runs along rows, and runs of equal
 // span in consecutive rows merged into one rectangle.

@@ -1,7 +1,8 @@
 // Lens effects (gles_renderer/scene/lens_effects.h), measured: the bloom keeps the bright
 // light's energy and spreads it over a stated radius, nothing below the threshold blooms, glare
 // streaks run along the configured rays, and with no virtual object every effect leaves the
-// camera image as it was. Each with RGBA16F images and with the RGBA8 RGBM fallback.
+// camera image as it was. Each with RGBA16F images and with the RGBA8 RGBM fallback. Culled
+// effects (drawn only near the bright light) give the frame the whole-frame effects give.
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -64,6 +65,13 @@ protected:
     // The effects over a black frame whose only virtual light is one texel of `radiance`.
     std::unique_ptr<LensEffects> applyToSpot(const LensOptions& options, float radiance)
     {
+        return applyToSpots(options, {{kSpot, kSpot}}, radiance);
+    }
+
+    // The same with a bright texel at each of `spots` (column, row).
+    std::unique_ptr<LensEffects> applyToSpots(const LensOptions& options, const std::vector<glm::ivec2>& spots,
+                                              float radiance)
+    {
         target_.emplace(kSize, kSize, 1);
         LensOptions formatted = options;
         formatted.images = GetParam() == Formats::Float ? LensImageFormat::Float : LensImageFormat::Rgbm;
@@ -79,10 +87,12 @@ protected:
             const float m = std::ceil(radiance / 16.0f * 255.0f) / 255.0f;
             const auto code = uint8_t(std::lround(std::min(1.0f, radiance / (m * 16.0f)) * 255.0f));
             const uint8_t texel[4] = {code, code, code, uint8_t(std::lround(m * 255.0f))};
-            glTexSubImage2D(GL_TEXTURE_2D, 0, kSpot, kSpot, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, texel);
+            for (const glm::ivec2 spot : spots)
+                glTexSubImage2D(GL_TEXTURE_2D, 0, spot.x, spot.y, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, texel);
         } else {
             const float texel[4] = {radiance, radiance, radiance, 1.0f};
-            glTexSubImage2D(GL_TEXTURE_2D, 0, kSpot, kSpot, 1, 1, GL_RGBA, GL_FLOAT, texel);
+            for (const glm::ivec2 spot : spots)
+                glTexSubImage2D(GL_TEXTURE_2D, 0, spot.x, spot.y, 1, 1, GL_RGBA, GL_FLOAT, texel);
         }
         lens->apply(*target_, {0, 0, kSize, kSize});
         EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
@@ -192,6 +202,43 @@ TEST_P(Lens, GlareStreaksRunAlongTheConfiguredRays)
         EXPECT_GT(along, 10.0 * stripEnergy(glare, ray + 60.0));  // between two rays
         EXPECT_GT(along, 10.0 * stripEnergy(glare, ray + 180.0)); // opposite: not a ray
     }
+}
+
+// Culled, the effects are drawn only within their reach of the bright texels: with two spots
+// (one by a corner, where the reach leaves the frame) under bloom and glare, the frame, the
+// bloom and the glare equal the whole-frame effects' (the bloom and glare texel by texel,
+// within 1e-6 of the brightest).
+TEST_P(Lens, CulledEffectsEqualTheWholeFrames)
+{
+    LensOptions options = bloomOnly();
+    options.glare = true;
+    options.glareLength = 24.0f;
+    options.glareAngle = 20.0f;
+    // The largest intensities: the faint ends of the bloom and the streaks reach the frame's codes.
+    options.bloomIntensity = 16.0f;
+    options.glareIntensity = 16.0f;
+    const std::vector<glm::ivec2> spots{{20, 24}, {kSize - 3, kSize - 2}};
+    options.culling = LensCulling::Whole;
+    const auto whole = applyToSpots(options, spots, kSpotRadiance);
+    const Image8 wholeFrame = frame();
+    const ImageF wholeBloom = whole->readBloom(), wholeGlare = whole->readGlare();
+    options.culling = LensCulling::Culled;
+    const auto culled = applyToSpots(options, spots, kSpotRadiance);
+    ASSERT_TRUE(culled->culled());
+    EXPECT_EQ(frame().data, wholeFrame.data);
+    const auto expectSame = [](const ImageF& a, const ImageF& b) {
+        ASSERT_EQ(a.data.size(), b.data.size());
+        float peak = 0.0f, worst = 0.0f;
+        for (size_t i = 0; i < a.data.size(); ++i) {
+            peak = std::max(peak, b.data[i]);
+            worst = std::max(worst, std::abs(a.data[i] - b.data[i]));
+        }
+        EXPECT_GT(peak, 0.0f);
+        EXPECT_LE(worst, 1e-6f * peak);
+    };
+    const ImageF culledBloom = culled->readBloom();
+    expectSame(culledBloom, wholeBloom);
+    expectSame(culled->readGlare(), wholeGlare);
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, Lens, ::testing::Values(Formats::Float, Formats::Packed, Formats::Rgbm),
@@ -336,6 +383,54 @@ TEST(LensRenderer, NoCameraCodeDarkensUnderTheBloomsTail)
                     worst = std::min(worst, d);
                 }
         EXPECT_EQ(darker, 0) << "the most: " << worst << " codes";
+    }
+}
+
+// Through the whole renderer: three emissive cards (one half out of the frame) over the code
+// ramp, bloom and glare on, single- and multisampled: the culled effects' frame is the
+// whole-frame effects' frame, code for code, and differs from the frame without effects.
+TEST(LensRenderer, CulledEffectsGiveTheWholeFramesImage)
+{
+    constexpr int kW = 192, kH = 128;
+    const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 96, 64);
+    Image8 ramp(kW, kH, 3);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            for (int c = 0; c < 3; ++c)
+                ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+    const auto render = [&](bool lensOn, LensCulling culling, int samples) {
+        RenderOptions options;
+        options.samples = samples;
+        options.lens.enabled = lensOn;
+        options.lens.culling = culling;
+        options.lens.glare = true;
+        options.lens.glareAngle = 15.0f;
+        options.lens.bloomRadius = 16.0f;
+        options.lens.glareLength = 24.0f;
+        auto made = test::tryCreateRenderer(kW, kH, options);
+        Image8 out;
+        if (!made.renderer)
+            return out;
+        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
+        const GltfModel card =
+            test::cameraFacingRectangle(-0.02f, -0.02f, 0.02f, 0.02f, test::emissiveMaterial(glm::vec3(8.0f)));
+        const int model = made.renderer->addModel(card);
+        const DrawItem items[] = {{model, test::translation(-0.5f, -0.3f, 1)},
+                                  {model, test::translation(0.3f, 0.2f, 1)},
+                                  {model, test::translation(0.97f, -0.1f, 1)}};
+        made.renderer->render(ramp, k, items);
+        made.renderer->readback(out);
+        return out;
+    };
+    for (const int samples : {1, 4}) {
+        SCOPED_TRACE("samples " + std::to_string(samples));
+        const Image8 off = render(false, LensCulling::Whole, samples);
+        if (off.width == 0)
+            GTEST_SKIP() << "no GLES 3 renderer";
+        const Image8 whole = render(true, LensCulling::Whole, samples);
+        const Image8 culled = render(true, LensCulling::Culled, samples);
+        EXPECT_NE(whole.data, off.data);
+        EXPECT_EQ(culled.data, whole.data);
     }
 }
 
