@@ -47,6 +47,17 @@ double energyWithin(const ImageF& image, int scale, double radius)
     return sum * scale * scale;
 }
 
+// A camera image holding every code value in each channel, the channels out of step.
+Image8 codeRamp(int width, int height)
+{
+    Image8 ramp(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+    return ramp;
+}
+
 // The images' formats: all RGBA16F; the radiance RGBA16F and the pyramid RGBM (a software
 // rasteriser's choice); all RGBM (no float format renders).
 enum class Formats { Float, Packed, Rgbm };
@@ -264,11 +275,7 @@ TEST(LensRenderer, PassthroughWithEveryEffectOnEqualsTheInput)
             options.lens.glare = true;
             LUMAR_RENDERER_OR_SKIP(renderer, 96, 64, options);
             renderer.setEnvironment(test::uniformEnvironment(1.0f), 1.0f);
-            Image8 input(96, 64, 3);
-            for (int y = 0; y < 64; ++y)
-                for (int x = 0; x < 96; ++x)
-                    for (int c = 0; c < 3; ++c)
-                        input.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+            const Image8 input = codeRamp(96, 64);
             renderer.render(input, test::makeIntrinsics(96, 64, 80, 80, 48, 32), {});
             Image8 out;
             renderer.readback(out);
@@ -344,11 +351,7 @@ TEST(LensRenderer, NoCameraCodeDarkensUnderTheBloomsTail)
 {
     constexpr int kW = 160, kH = 120;
     const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 80, 60);
-    Image8 ramp(kW, kH, 3);
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x)
-            for (int c = 0; c < 3; ++c)
-                ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+    const Image8 ramp = codeRamp(kW, kH);
     const auto renderCard = [&](bool lensOn, bool rgbm) {
         RenderOptions options;
         options.lens.enabled = lensOn;
@@ -393,11 +396,7 @@ TEST(LensRenderer, CulledEffectsGiveTheWholeFramesImage)
 {
     constexpr int kW = 192, kH = 128;
     const CameraIntrinsics k = test::makeIntrinsics(kW, kH, 100, 100, 96, 64);
-    Image8 ramp(kW, kH, 3);
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x)
-            for (int c = 0; c < 3; ++c)
-                ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
+    const Image8 ramp = codeRamp(kW, kH);
     const auto render = [&](bool lensOn, LensCulling culling, int samples) {
         RenderOptions options;
         options.samples = samples;
