@@ -1,4 +1,12 @@
 #version 300 es
+// LENS_FETCH: the frame's pixel is read where it is drawn (GL_EXT_shader_framebuffer_fetch,
+// single-sampled targets), not from a copy of the frame.
+#ifndef LENS_FETCH
+#define LENS_FETCH 0
+#endif
+#if LENS_FETCH
+#extension GL_EXT_shader_framebuffer_fetch : require
+#endif
 // Adds the lens effects onto the frame (gles_renderer/scene/lens_effects.h). The effects are
 // light scattered in the lens, added to what reached the sensor: the frame's pixel is taken
 // back through the camera's response (camera_response.glsl) to linear light, the bloom and
@@ -7,13 +15,19 @@
 precision highp float;
 precision highp sampler2D;
 
+#if !LENS_FETCH
 uniform sampler2D uFrame;  // the frame so far, sRGB-encoded (a copy: the target is drawn into)
+#endif
 uniform sampler2D uBloom;  // half the frame's size, or unused
 uniform sampler2D uGlare;  // smaller than the frame by 1 / uGlareScale, or unused
 uniform float uGlareScale;
 uniform vec2 uIntensity;   // x: bloom, y: glare
 
+#if LENS_FETCH
+inout vec4 fragColor; // the frame so far, sRGB-encoded
+#else
 out vec4 fragColor;
+#endif
 
 // Compile-time choices (LensEffects links a program per image format and effect): on
 // llvmpipe a branch on a uniform runs both sides, texture reads and all.
@@ -78,6 +92,10 @@ void main()
 #endif
     if (max(added.r, max(added.g, added.b)) < kNothing)
         discard;
+#if LENS_FETCH
+    vec3 frame = decodeSrgb(fragColor.rgb);
+#else
     vec3 frame = decodeSrgb(texelFetch(uFrame, ivec2(gl_FragCoord.xy), 0).rgb);
+#endif
     fragColor = vec4(encodeSrgb(cameraResponse(inverseResponse(frame) + added)), 1.0);
 }

@@ -71,6 +71,9 @@ public:
     [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
     [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
     [[nodiscard]] bool culled() const { return culled_; }
+    // The composite reads the frame's pixels where it draws them (framebuffer fetch), not
+    // from a copy of the frame.
+    [[nodiscard]] bool fetchesFrame() const { return fetch_; }
 
 private:
     struct Level {
@@ -94,6 +97,7 @@ private:
     bool radianceRgbm_;
     bool rgbm_;
     bool culled_; // LensCulling, decided
+    bool fetch_;  // GL_EXT_shader_framebuffer_fetch on a single-sampled target
     int width_;
     int height_;
     int samples_;
@@ -105,7 +109,7 @@ private:
     std::vector<Level> up_;   // up_[k]: the bloom from level k down (up_.back() unused)
     int bloomLevels_ = 0;
     Level glare_;
-    Level frameCopy_;        // RGBA8 copy of the frame, read by the composite
+    Level frameCopy_;        // RGBA8 copy of the frame, read by the composite (without fetch_)
     GlProgram downsample_;   // a step down the pyramid
     GlProgram brightPass_;   // its first step, where the radiance's format is not the pyramid's
     GlProgram upsample_;     // with the bloom only
