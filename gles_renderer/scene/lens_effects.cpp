@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <string>
 
@@ -106,7 +107,13 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
       height_(target.height()), samples_(target.samples()), targetFramebuffer_(target.drawFramebuffer())
 {
     checkOptions(options_);
-    const GLenum format = radianceRgbm_ ? GL_RGBA8 : GL_RGBA16F;
+    // Packed float (32 bits a texel) where it renders: half RGBA16F's memory (3.5 MiB at
+    // 1280x720) and its bandwidth in the frame's shading, still blendable (the blend's alpha
+    // is the fragment's) and within 3 % of the radiance, which only feeds the glow.
+    radianceFormat_ = radianceRgbm_                                 ? GL_RGBA8
+                      : hasGlExtension("GL_EXT_color_buffer_float") ? GL_R11F_G11F_B10F
+                                                                    : GL_RGBA16F;
+    const GLenum format = radianceFormat_;
     radiance_ = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, radiance_.name());
     glTexStorage2D(GL_TEXTURE_2D, 1, format, width_, height_);
@@ -136,12 +143,33 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     for (int k = 0; k < levels && (w > 1 || h > 1); ++k) {
         w = (w + 1) / 2;
         h = (h + 1) / 2;
-        down_.push_back(makeLevel(w, h));
-        up_.push_back(options_.bloom && k + 1 < bloomLevels_ ? makeLevel(w, h) : Level{});
+        levelSizes_.emplace_back(w, h);
     }
-    bloomLevels_ = std::min(bloomLevels_, int(down_.size()));
-    if (options_.glare && down_.size() > size_t(kGlareLevel))
-        glare_ = makeLevel(down_[kGlareLevel].width, down_[kGlareLevel].height);
+    bloomLevels_ = std::min(bloomLevels_, int(levelSizes_.size()));
+    glare_ = options_.glare && levelSizes_.size() > size_t(kGlareLevel);
+    const bool bloom = options_.bloom && bloomLevels_ > 0;
+    if (culled_) {
+        // The bright pass's image alone is GL's; the bloom and the glare come back from the
+        // CPU as float images (RGB16F filters on every GLES 3), sampled once per pixel.
+        if (!levelSizes_.empty())
+            down_.push_back(makeLevel(levelSizes_[0].x, levelSizes_[0].y));
+        cpuLevels_.resize(levelSizes_.size());
+        cpuUp_.resize(levelSizes_.size());
+        if (bloom) {
+            bloomUpload_ = makeRenderTexture(GL_RGB16F, levelSizes_[0].x, levelSizes_[0].y, GL_LINEAR);
+        }
+        if (glare_)
+            glareUpload_ =
+                makeRenderTexture(GL_RGB16F, levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, GL_LINEAR);
+    } else {
+        for (size_t k = 0; k < levelSizes_.size(); ++k) {
+            down_.push_back(makeLevel(levelSizes_[k].x, levelSizes_[k].y));
+            up_.push_back(options_.bloom && int(k) + 1 < bloomLevels_ ? makeLevel(levelSizes_[k].x, levelSizes_[k].y)
+                                                                      : Level{});
+        }
+        if (glare_)
+            glareLevel_ = makeLevel(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y);
+    }
     if (!fetch_) {
         frameCopy_.width = width_;
         frameCopy_.height = height_;
@@ -168,16 +196,17 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
         glUseProgram(program->name());
         glUniform1i(uniformLocation(*program, "uSource"), 0);
     }
-    const bool bloom = options_.bloom && bloomLevels_ > 0;
-    if (options_.bloom && bloomLevels_ > 1) {
+    if (!culled_ && options_.bloom && bloomLevels_ > 1) {
         upsample_ = linkProgram(kLensUpsampleProgram, formatDefine);
         glUseProgram(upsample_.name());
         glUniform1i(uniformLocation(upsample_, "uLevel"), 0);
         glUniform1i(uniformLocation(upsample_, "uCoarser"), 1);
     }
-    composite_ = linkProgram(kLensCompositeProgram, formatDefine + "#define LENS_BLOOM " + (bloom ? "1" : "0") +
-                                                        "\n#define LENS_GLARE " + (glare_.width > 0 ? "1" : "0") +
-                                                        "\n#define LENS_FETCH " + (fetch_ ? "1" : "0") + "\n");
+    // Culled, the composite reads the CPU's float images.
+    composite_ =
+        linkProgram(kLensCompositeProgram, rgbmDefine(rgbm_ && !culled_) + "#define LENS_BLOOM " + (bloom ? "1" : "0") +
+                                               "\n#define LENS_GLARE " + (glare_ ? "1" : "0") +
+                                               "\n#define LENS_FETCH " + (fetch_ ? "1" : "0") + "\n");
     glUseProgram(composite_.name());
     if (!fetch_)
         glUniform1i(uniformLocation(composite_, "uFrame"), 0);
@@ -185,38 +214,44 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     glUniform1i(optionalUniformLocation(composite_, "uGlare"), 2);
     glUniform1f(optionalUniformLocation(composite_, "uGlareScale"), 1.0f / float(kGlareScale));
     glUniform2f(optionalUniformLocation(composite_, "uIntensity"), bloom ? options_.bloomIntensity : 0.0f,
-                glare_.width > 0 ? options_.glareIntensity : 0.0f);
+                glare_ ? options_.glareIntensity : 0.0f);
 
-    if (glare_.width > 0) {
+    if (glare_) {
         // Rays in the glare's texels; the frame's texel rows run down the image, like the
         // angle's +y.
         const float length = options_.glareLength / float(kGlareScale);
         const int samples = std::clamp(int(std::ceil(length / kGlareSampleSpacing)) + 1, 2, kMaxSamples);
         const float step = length / float(samples - 1);
-        std::array<GLfloat, 2 * kMaxStreaks> steps{};
         const double first = double(options_.glareAngle) * std::numbers::pi / 180.0;
         for (int s = 0; s < options_.glareStreaks; ++s) {
             const double angle = first + 2.0 * std::numbers::pi * s / options_.glareStreaks;
             // lens_glare.frag gathers from behind (p - step i): a bright texel's light moves
             // along the step.
-            steps[size_t(2 * s)] = GLfloat(std::cos(angle) * step);
-            steps[size_t(2 * s + 1)] = GLfloat(std::sin(angle) * step);
+            glareSteps_.emplace_back(float(std::cos(angle) * step), float(std::sin(angle) * step));
         }
-        std::array<GLfloat, kMaxSamples> weights{};
         double total = 0.0;
         for (int i = 0; i < samples; ++i) {
-            weights[size_t(i)] = GLfloat(std::exp(-kGlareFalloff * i / double(samples - 1)));
-            total += weights[size_t(i)] * options_.glareStreaks; // the centre is shared: counted as in the shader
+            glareWeights_.push_back(float(std::exp(-kGlareFalloff * i / double(samples - 1))));
+            total += glareWeights_.back() * options_.glareStreaks; // the centre is shared: counted as in the shader
         }
-        for (GLfloat& weight : weights)
-            weight = GLfloat(weight / total);
-        glareProgram_ = linkProgram(kLensGlareProgram, formatDefine);
-        glUseProgram(glareProgram_.name());
-        glUniform1i(uniformLocation(glareProgram_, "uSource"), 0);
-        glUniform2fv(uniformLocation(glareProgram_, "uSteps"), kMaxStreaks, steps.data());
-        glUniform1i(uniformLocation(glareProgram_, "uStreaks"), options_.glareStreaks);
-        glUniform1i(uniformLocation(glareProgram_, "uSamples"), samples);
-        glUniform1fv(uniformLocation(glareProgram_, "uWeights"), kMaxSamples, weights.data());
+        for (float& weight : glareWeights_)
+            weight = float(weight / total);
+        if (!culled_) {
+            std::array<GLfloat, 2 * kMaxStreaks> steps{};
+            for (size_t s = 0; s < glareSteps_.size(); ++s) {
+                steps[2 * s] = glareSteps_[s].x;
+                steps[2 * s + 1] = glareSteps_[s].y;
+            }
+            std::array<GLfloat, kMaxSamples> weights{};
+            std::copy(glareWeights_.begin(), glareWeights_.end(), weights.begin());
+            glareProgram_ = linkProgram(kLensGlareProgram, formatDefine);
+            glUseProgram(glareProgram_.name());
+            glUniform1i(uniformLocation(glareProgram_, "uSource"), 0);
+            glUniform2fv(uniformLocation(glareProgram_, "uSteps"), kMaxStreaks, steps.data());
+            glUniform1i(uniformLocation(glareProgram_, "uStreaks"), options_.glareStreaks);
+            glUniform1i(uniformLocation(glareProgram_, "uSamples"), samples);
+            glUniform1fv(uniformLocation(glareProgram_, "uWeights"), kMaxSamples, weights.data());
+        }
     }
     glUseProgram(0);
     checkGlError("creating the lens effects");
@@ -261,17 +296,15 @@ void LensEffects::blendingVirtual(bool blending) const
 
 void LensEffects::drawInto(Level& level, const PixelRect& texels)
 {
-    const PixelRect whole{0, 0, level.width, level.height};
-    level.drawn = intersection(texels, whole);
+    const PixelRect drawn = intersection(texels, {0, 0, level.width, level.height});
     glBindFramebuffer(GL_FRAMEBUFFER, level.framebuffer.name());
     glViewport(0, 0, level.width, level.height);
-    if (level.drawn.empty())
+    if (drawn.empty())
         return;
-    const bool scissored =
-        level.drawn.x0 > 0 || level.drawn.y0 > 0 || level.drawn.x1 < level.width || level.drawn.y1 < level.height;
+    const bool scissored = drawn.x0 > 0 || drawn.y0 > 0 || drawn.x1 < level.width || drawn.y1 < level.height;
     if (scissored) {
         glEnable(GL_SCISSOR_TEST);
-        glScissor(level.drawn.x0, level.drawn.y0, level.drawn.x1 - level.drawn.x0, level.drawn.y1 - level.drawn.y0);
+        glScissor(drawn.x0, drawn.y0, drawn.x1 - drawn.x0, drawn.y1 - drawn.y0);
     }
     drawFullscreenTriangle();
     if (scissored)
@@ -284,43 +317,76 @@ int LensEffects::reachPixels() const
     // it, every step up the pyramid one texel of that step further (2^levels - 2 in all) and
     // the composite's bilinear read 2 more. Glare: the rays.
     const int bloom = options_.bloom ? 2 << bloomLevels_ : 0;
-    const int glare = glare_.width > 0 ? int(std::ceil(options_.glareLength)) + 2 * kGlareScale : 0;
+    const int glare = glare_ ? int(std::ceil(options_.glareLength)) + 2 * kGlareScale : 0;
     return std::max(bloom, glare) + 4;
+}
+
+void LensEffects::readBrightRegion(const PixelRect& area)
+{
+    // The bright pass's image (half size, the threshold applied) is where all of the effects'
+    // light comes from; only the texels under `area` can be lit (reach() bounds the objects).
+    // The read waits for the rasteriser: the frame and the bright pass.
+    const Level& bright = down_[0];
+    RadianceRegion& region = cpuLevels_[0];
+    region.reset(bright.width, bright.height, levelTexels(area, 2));
+    const PixelRect& texels = region.texels();
+    if (texels.empty())
+        return;
+    const int w = texels.x1 - texels.x0, h = texels.y1 - texels.y0;
+    const size_t count = size_t(w) * size_t(h);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, bright.framebuffer.name());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    if (rgbm_) {
+        brightBytes_.resize(count * 4);
+        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, brightBytes_.data());
+        // rgbm.glsl's decoding.
+        constexpr float kRgbmRange = 16.0f;
+        for (int y = 0; y < h; ++y) {
+            const uint8_t* in = &brightBytes_[size_t(y) * size_t(w) * 4];
+            float* out = region.row(texels.y0 + y);
+            for (int x = 0; x < w; ++x, in += 4, out += 3) {
+                if ((in[0] | in[1] | in[2]) == 0)
+                    continue; // most of them: the region is zero already
+                const float scale = float(in[3]) / 255.0f * kRgbmRange;
+                for (int c = 0; c < 3; ++c)
+                    out[c] = float(in[c]) / 255.0f * scale;
+            }
+        }
+    } else {
+        brightBytes_.resize(count * 4 * sizeof(float));
+        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_FLOAT, brightBytes_.data());
+        for (int y = 0; y < h; ++y) {
+            float* out = region.row(texels.y0 + y);
+            for (int x = 0; x < w; ++x, out += 3) {
+                float rgba[4];
+                std::memcpy(rgba, &brightBytes_[((size_t(y) * size_t(w) + size_t(x)) * 4) * sizeof(float)],
+                            sizeof rgba);
+                std::copy_n(rgba, 3, out);
+            }
+        }
+    }
+    checkGlError("reading the lens effects' bright image");
 }
 
 std::vector<PixelRect> LensEffects::litTiles(const PixelRect& area) const
 {
-    // The bright pass's image (half size, the threshold applied) is where all of the effects'
-    // light comes from: a tile beyond reach of its lit texels gets nothing. Only the texels
-    // under `area` can be lit (reach() bounds the objects).
-    const Level& bright = down_[0];
-    const PixelRect texels = intersection(levelTexels(area, 2), {0, 0, bright.width, bright.height});
-    if (texels.empty())
-        return {};
-    const int w = texels.x1 - texels.x0, h = texels.y1 - texels.y0;
-    std::vector<uint8_t> lit(size_t(w) * size_t(h));
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, bright.framebuffer.name());
-    if (rgbm_) {
-        // RGBM's multiplier is never 0: light is in the colour bytes.
-        std::vector<uint8_t> rgba(lit.size() * 4);
-        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-        for (size_t i = 0; i < lit.size(); ++i)
-            lit[i] = (rgba[4 * i] | rgba[4 * i + 1] | rgba[4 * i + 2]) != 0;
-    } else {
-        std::vector<float> rgba(lit.size() * 4);
-        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
-        for (size_t i = 0; i < lit.size(); ++i)
-            lit[i] = rgba[4 * i] > 0.0f || rgba[4 * i + 1] > 0.0f || rgba[4 * i + 2] > 0.0f;
-    }
-    checkGlError("reading the lens effects' bright image");
-
+    // A tile beyond reach of the bright image's lit texels gets nothing.
+    const RadianceRegion& bright = cpuLevels_[0];
+    const PixelRect& texels = bright.texels();
     TileCover tiles(width_, height_, kCullTile);
     std::vector<uint8_t> litTile(size_t(tiles.columns()) * size_t(tiles.rows()));
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (lit[size_t(y) * size_t(w) + size_t(x)])
-                litTile[size_t(std::min((texels.y0 + y) * 2 / kCullTile, tiles.rows() - 1)) * size_t(tiles.columns()) +
-                        size_t(std::min((texels.x0 + x) * 2 / kCullTile, tiles.columns() - 1))] = 1;
+    bool any = false;
+    for (int y = texels.y0; y < texels.y1; ++y) {
+        const float* texel = bright.row(y);
+        for (int x = texels.x0; x < texels.x1; ++x, texel += 3)
+            if (texel[0] > 0.0f || texel[1] > 0.0f || texel[2] > 0.0f) {
+                litTile[size_t(std::min(y * 2 / kCullTile, tiles.rows() - 1)) * size_t(tiles.columns()) +
+                        size_t(std::min(x * 2 / kCullTile, tiles.columns() - 1))] = 1;
+                any = true;
+            }
+    }
+    if (!any)
+        return {};
     const double reach = reachPixels();
     for (int row = 0; row < tiles.rows(); ++row)
         for (int column = 0; column < tiles.columns(); ++column)
@@ -395,9 +461,18 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
         glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         glReadBuffer(GL_COLOR_ATTACHMENT0);
     }
+    if (culled_)
+        applyCulled(target, area);
+    else
+        applyWhole(target, area);
+    target.bindForDrawing();
+    glUseProgram(0);
+    glActiveTexture(GL_TEXTURE0);
+    checkGlError("drawing the lens effects");
+}
 
-    // Bright pass and the pyramid. Culled, each level is cleared and drawn under `area` only:
-    // the radiance outside it is 0 (reach() bounds the objects), so the level is whole.
+void LensEffects::applyWhole(const RenderTarget& target, const PixelRect& area)
+{
     constexpr PixelRect kEverything{0, 0, 1 << 30, 1 << 30};
     for (size_t k = 0; k < down_.size(); ++k) {
         const GlProgram& program = k == 0 && brightPass_ ? brightPass_ : downsample_;
@@ -406,32 +481,7 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
             glUniform1f(uniformLocation(program, "uThreshold"), k == 0 ? options_.threshold : 0.0f);
         }
         bindTexture(0, k == 0 ? radiance_.name() : down_[k - 1].texture.name());
-        if (culled_) {
-            glBindFramebuffer(GL_FRAMEBUFFER, down_[k].framebuffer.name());
-            const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
-            glClearBufferfv(GL_COLOR, 0, zero);
-        }
-        drawInto(down_[k], culled_ ? levelTexels(area, 2 << k) : kEverything);
-        if (culled_)
-            down_[k].drawn = {0, 0, down_[k].width, down_[k].height};
-    }
-    // Culled: the rest is drawn only within reach of the bright texels, the pyramid's levels
-    // (each read one texel round its footprint by the level above) over their bounds.
-    std::vector<PixelRect> tiles{area};
-    if (culled_)
-        tiles = litTiles(area);
-    PixelRect bounds;
-    for (const PixelRect& tile : tiles)
-        bounds = bounding(bounds, tile);
-    if (bounds.empty()) {
-        for (Level& level : up_)
-            level.drawn = {};
-        glare_.drawn = {};
-        target.bindForDrawing();
-        glUseProgram(0);
-        glActiveTexture(GL_TEXTURE0);
-        checkGlError("drawing the lens effects");
-        return;
+        drawInto(down_[k], kEverything);
     }
     // Bloom: up from the coarsest level, each level's share 1 / (levels from it down).
     if (options_.bloom && bloomLevels_ > 1) {
@@ -442,15 +492,84 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
             bindTexture(1, k + 2 == bloomLevels_ ? down_[size_t(k + 1)].texture.name()
                                                  : up_[size_t(k + 1)].texture.name());
             glUniform1f(weight, 1.0f / float(bloomLevels_ - k));
-            drawInto(up_[size_t(k)], culled_ ? levelTexels(bounds, 2 << k) : kEverything);
+            drawInto(up_[size_t(k)], kEverything);
         }
     }
-    if (glare_.width > 0) {
+    if (glare_) {
         glUseProgram(glareProgram_.name());
         bindTexture(0, down_[kGlareLevel].texture.name());
-        drawInto(glare_, culled_ ? levelTexels(bounds, kGlareScale) : kEverything);
+        drawInto(glareLevel_, kEverything);
     }
+    const GLuint bloom = !options_.bloom || down_.empty() ? 0
+                         : bloomLevels_ > 1               ? up_[0].texture.name()
+                                                          : down_[0].texture.name();
+    const PixelRect tiles[] = {area};
+    composite(target, tiles, area, bloom, glareLevel_.texture.name());
+}
 
+void LensEffects::applyCulled(const RenderTarget& target, const PixelRect& area)
+{
+    if (down_.empty())
+        return;
+    // The bright pass, cleared and drawn under `area` only: the radiance outside it is 0
+    // (reach() bounds the objects), so the image is whole.
+    const GlProgram& program = brightPass_ ? brightPass_ : downsample_;
+    glUseProgram(program.name());
+    glUniform1f(uniformLocation(program, "uThreshold"), options_.threshold);
+    bindTexture(0, radiance_.name());
+    glBindFramebuffer(GL_FRAMEBUFFER, down_[0].framebuffer.name());
+    const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    drawInto(down_[0], levelTexels(area, 2));
+    readBrightRegion(area);
+
+    const std::vector<PixelRect> tiles = litTiles(area);
+    PixelRect bounds;
+    for (const PixelRect& tile : tiles)
+        bounds = bounding(bounds, tile);
+    for (RadianceRegion& level : cpuUp_)
+        level.reset(0, 0, {});
+    cpuGlare_.reset(0, 0, {});
+    if (bounds.empty())
+        return;
+    // Down the pyramid under `area` (0 beyond it, as the bright image is), up it and the
+    // glare within reach of the tiles: each step reads its source one texel round its
+    // footprint, inside the kCullMargin texels every region has to spare.
+    for (size_t k = 1; k < cpuLevels_.size(); ++k) {
+        cpuLevels_[k].reset(levelSizes_[k].x, levelSizes_[k].y, levelTexels(area, 2 << k));
+        downsampleRegion(cpuLevels_[k - 1], cpuLevels_[k]);
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    const auto upload = [](GLuint texture, const RadianceRegion& region) {
+        const PixelRect& texels = region.texels();
+        if (texels.empty())
+            return;
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, texels.x0, texels.y0, texels.x1 - texels.x0, texels.y1 - texels.y0, GL_RGB,
+                        GL_FLOAT, region.row(texels.y0));
+    };
+    if (options_.bloom && bloomLevels_ > 0) {
+        for (int k = bloomLevels_ - 2; k >= 0; --k) {
+            RadianceRegion& up = cpuUp_[size_t(k)];
+            up.reset(levelSizes_[size_t(k)].x, levelSizes_[size_t(k)].y, levelTexels(bounds, 2 << k));
+            upsampleRegion(cpuLevels_[size_t(k)],
+                           k + 2 == bloomLevels_ ? cpuLevels_[size_t(k + 1)] : cpuUp_[size_t(k + 1)],
+                           1.0f / float(bloomLevels_ - k), up);
+        }
+        upload(bloomUpload_.name(), bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0]);
+    }
+    if (glare_) {
+        cpuGlare_.reset(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, levelTexels(bounds, kGlareScale));
+        gatherGlareRegion(cpuLevels_[kGlareLevel], glareSteps_, glareWeights_, cpuGlare_);
+        upload(glareUpload_.name(), cpuGlare_);
+    }
+    checkGlError("uploading the lens effects");
+    composite(target, tiles, bounds, bloomUpload_.name(), glareUpload_.name());
+}
+
+void LensEffects::composite(const RenderTarget& target, std::span<const PixelRect> tiles, const PixelRect& bounds,
+                            GLuint bloom, GLuint glare)
+{
     if (!fetch_)
         copyFrame(target, bounds);
     target.bindForDrawing();
@@ -458,18 +577,13 @@ void LensEffects::apply(const RenderTarget& target, const PixelRect& area)
     glEnable(GL_SCISSOR_TEST);
     glUseProgram(composite_.name());
     bindTexture(0, fetch_ ? 0 : frameCopy_.texture.name());
-    bindTexture(1, !options_.bloom || down_.empty() ? 0
-                   : bloomLevels_ > 1               ? up_[0].texture.name()
-                                                    : down_[0].texture.name());
-    bindTexture(2, glare_.texture.name());
+    bindTexture(1, bloom);
+    bindTexture(2, glare);
     for (const PixelRect& tile : tiles) {
         glScissor(tile.x0, tile.y0, tile.x1 - tile.x0, tile.y1 - tile.y0);
         drawFullscreenTriangle();
     }
     glDisable(GL_SCISSOR_TEST);
-    glUseProgram(0);
-    glActiveTexture(GL_TEXTURE0);
-    checkGlError("drawing the lens effects");
 }
 
 ImageF LensEffects::read(const Level& level) const
@@ -491,12 +605,9 @@ ImageF LensEffects::read(const Level& level) const
         glReadPixels(0, 0, level.width, level.height, GL_RGBA, GL_FLOAT, rgba.data());
     }
     checkGlError("reading a lens-effect image");
-    for (int y = 0; y < level.height; ++y)
-        for (int x = 0; x < level.width; ++x) {
-            const bool drawn = x >= level.drawn.x0 && x < level.drawn.x1 && y >= level.drawn.y0 && y < level.drawn.y1;
-            for (int c = 0; c < 3; ++c)
-                image.at(x, y)[c] = drawn ? rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4 + size_t(c)] : 0.0f;
-        }
+    for (size_t i = 0; i < size_t(level.width) * size_t(level.height); ++i)
+        for (size_t c = 0; c < 3; ++c)
+            image.data[i * 3 + c] = rgba[i * 4 + c];
     return image;
 }
 
@@ -509,12 +620,21 @@ ImageF LensEffects::readBloom() const
 {
     if (!options_.bloom || down_.empty())
         return ImageF();
+    if (culled_) {
+        const RadianceRegion& bloom = bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0];
+        return bloom.width() > 0 ? bloom.image() : ImageF(levelSizes_[0].x, levelSizes_[0].y, 3);
+    }
     return read(bloomLevels_ > 1 ? up_[0] : down_[0]);
 }
 
 ImageF LensEffects::readGlare() const
 {
-    return read(glare_);
+    if (!glare_)
+        return ImageF(0, 0, 3);
+    if (culled_)
+        return cpuGlare_.width() > 0 ? cpuGlare_.image()
+                                     : ImageF(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, 3);
+    return read(glareLevel_);
 }
 
 } // namespace lumar

@@ -10,8 +10,9 @@
 // configured rays. Both conserve the bright light's energy (sum of radiance x area), scaled by
 // their intensities, and are added to the frame in linear light (lens_composite.frag), which
 // leaves every pixel they do not reach exactly as it was. Culled (LensCulling; a software
-// rasteriser's choice) everything past the bright pass is drawn only in the tiles within
-// reach of its lit texels, read back once: the car scene with bloom on llvmpipe, post
+// rasteriser's choice) the bright image is read back once, the pyramid and the glare are
+// computed on the CPU within reach of its lit texels (lens_cpu_passes.h), and the composite
+// is drawn only in the tiles they reach: the car scene with bloom on llvmpipe, post
 // 21.7 -> 8.2 ms of CPU (the composite had shaded 578k pixels for 22k that change).
 #pragma once
 
@@ -24,6 +25,7 @@
 #include "gles_renderer/gl/gl_object.h"
 #include "gles_renderer/gl/render_target.h"
 #include "gles_renderer/scene/gpu_model.h"
+#include "gles_renderer/scene/lens_cpu_passes.h"
 #include "gles_renderer/scene/pixel_rects.h"
 #include "gles_renderer/scene/scene_renderer.h"
 
@@ -69,6 +71,8 @@ public:
     [[nodiscard]] ImageF readBloom() const;
     [[nodiscard]] ImageF readGlare() const;
     [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
+    // Its internal format: RGBA8 (RGBM), R11F_G11F_B10F or RGBA16F.
+    [[nodiscard]] GLenum radianceFormat() const { return radianceFormat_; }
     [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
     [[nodiscard]] bool culled() const { return culled_; }
     // The composite reads the frame's pixels where it draws them (framebuffer fetch), not
@@ -81,10 +85,16 @@ private:
         int height = 0;
         GlTexture texture;
         GlFramebuffer framebuffer;
-        PixelRect drawn; // culled: the texels last drawn (the rest is stale); whole: all of it
     };
     Level makeLevel(int width, int height) const;
     void drawInto(Level& level, const PixelRect& texels);
+    // The GL passes over every texel (LensCulling::Whole).
+    void applyWhole(const RenderTarget& target, const PixelRect& area);
+    // The bright pass under `area`, read back; the rest on the CPU within reach of its light
+    // (lens_cpu_passes.h), the composite in the tiles it reaches (LensCulling::Culled).
+    void applyCulled(const RenderTarget& target, const PixelRect& area);
+    // Culled: down_[0]'s texels under `area` into cpuLevels_[0], linear.
+    void readBrightRegion(const PixelRect& area);
     // Culled: the frame's tiles within reach of a texel of the bright image that holds light,
     // as disjoint rectangles within `area`.
     [[nodiscard]] std::vector<PixelRect> litTiles(const PixelRect& area) const;
@@ -92,9 +102,14 @@ private:
     [[nodiscard]] int reachPixels() const;
     [[nodiscard]] ImageF read(const Level& level) const;
     void copyFrame(const RenderTarget& target, const PixelRect& area);
+    // Adds the effects onto the target within `tiles` (the composite), reading the bloom and
+    // the glare from these textures.
+    void composite(const RenderTarget& target, std::span<const PixelRect> tiles, const PixelRect& bounds, GLuint bloom,
+                   GLuint glare);
 
     LensOptions options_;
     bool radianceRgbm_;
+    GLenum radianceFormat_ = GL_RGBA16F;
     bool rgbm_;
     bool culled_; // LensCulling, decided
     bool fetch_;  // GL_EXT_shader_framebuffer_fetch on a single-sampled target
@@ -105,15 +120,27 @@ private:
     GlRenderbuffer multisampledRadiance_; // drawn into when the target is multisampled
     GlFramebuffer resolveFramebuffer_;    // radiance_ as a blit destination (multisampled only)
     GLuint targetFramebuffer_;
+    std::vector<glm::ivec2> levelSizes_; // the pyramid's, [0]: half the frame's size
+    int bloomLevels_ = 0;
+    bool glare_ = false;
+    std::vector<glm::vec2> glareSteps_; // per streak: one sample's offset, glare texels
+    std::vector<float> glareWeights_;   // by sample index, over all streaks summing to 1
+    // Whole: the pyramid on GL. Culled: down_[0] alone (the bright pass's image).
     std::vector<Level> down_; // [0]: half size, thresholded
     std::vector<Level> up_;   // up_[k]: the bloom from level k down (up_.back() unused)
-    int bloomLevels_ = 0;
-    Level glare_;
+    Level glareLevel_;
+    // Culled: the pyramid on the CPU and the results uploaded for the composite (RGB16F).
+    std::vector<RadianceRegion> cpuLevels_; // [0]: the bright image, read back
+    std::vector<RadianceRegion> cpuUp_;
+    RadianceRegion cpuGlare_;
+    std::vector<uint8_t> brightBytes_; // the bright image's texels as read back
+    GlTexture bloomUpload_;
+    GlTexture glareUpload_;
     Level frameCopy_;        // RGBA8 copy of the frame, read by the composite (without fetch_)
     GlProgram downsample_;   // a step down the pyramid
     GlProgram brightPass_;   // its first step, where the radiance's format is not the pyramid's
-    GlProgram upsample_;     // with the bloom only
-    GlProgram glareProgram_; // with the glare only
+    GlProgram upsample_;     // whole, with the bloom only
+    GlProgram glareProgram_; // whole, with the glare only
     GlProgram composite_;
 };
 
