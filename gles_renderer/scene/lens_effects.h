@@ -98,6 +98,9 @@ private:
     // Culled: the frame's tiles within reach of a texel of the bright image that holds light,
     // as disjoint rectangles within `area`.
     [[nodiscard]] std::vector<PixelRect> litTiles(const PixelRect& area) const;
+    // Culled: the tiles of `candidates` (litTiles) where the bloom and the glare computed on
+    // the CPU add light the composite keeps.
+    [[nodiscard]] std::vector<PixelRect> reachedTiles(std::span<const PixelRect> candidates) const;
     // How far from a bright pixel the bloom and the glare reach, in pixels.
     [[nodiscard]] int reachPixels() const;
     [[nodiscard]] ImageF read(const Level& level) const;
