@@ -315,7 +315,7 @@ private:
             lens_->endVirtual();
             if (profile_)
                 timer.split(stats_.transparent);
-            lens_->apply(target_, lens_->reach(models_, items, frame_.clipFromCamera));
+            lens_->apply(target_, lens_->area(models_, items, frame_.clipFromCamera));
             if (profile_)
                 timer.split(stats_.post);
         }

@@ -53,14 +53,19 @@ public:
     // `blending`: what lies behind a BLEND surface keeps its light, and the surface adds none
     // to the bloom and glare (on float images it adds its share and dims what is behind).
     void blendingVirtual(bool blending) const;
-    // The window-space pixels the effects can change this frame: the virtual objects' (not
-    // the phantoms') projected bounds grown by the bloom's and the streaks' reach. Empty
-    // without virtual objects.
-    [[nodiscard]] PixelRect reach(std::span<const GpuModel> models, std::span<const DrawItem> items,
-                                  const glm::mat4& clipFromCamera) const;
-    // Adds the effects onto the target's colour within `area` (reach()); nothing at all when it
+    // Where this frame's virtual light can be and where its effects can reach, window pixels.
+    struct Area {
+        PixelRect reach;                // the pixels the effects can change: the sources grown by the reach
+        std::vector<PixelRect> sources; // disjoint: the virtual objects' (not the phantoms') projected bounds
+    };
+    // Both empty without virtual objects.
+    [[nodiscard]] Area area(std::span<const GpuModel> models, std::span<const DrawItem> items,
+                            const glm::mat4& clipFromCamera) const;
+    // Adds the effects onto the target's colour within `area.reach`; nothing at all when it
     // is empty. Leaves the target bound for drawing.
-    void apply(const RenderTarget& target, const PixelRect& area);
+    void apply(const RenderTarget& target, const Area& area);
+    // The same for virtual light anywhere within `reach`.
+    void apply(const RenderTarget& target, const PixelRect& reach) { apply(target, Area{reach, {reach}}); }
 
     // Test access. The radiance image the objects are drawn into (the frame's size).
     [[nodiscard]] GLuint radianceTexture() const { return radiance_.name(); }
@@ -89,10 +94,10 @@ private:
     Level makeLevel(int width, int height) const;
     void drawInto(Level& level, const PixelRect& texels);
     // The GL passes over every texel (LensCulling::Whole).
-    void applyWhole(const RenderTarget& target, const PixelRect& area);
-    // The bright pass under `area`, read back; the rest on the CPU within reach of its light
-    // (lens_cpu_passes.h), the composite in the tiles it reaches (LensCulling::Culled).
-    void applyCulled(const RenderTarget& target, const PixelRect& area);
+    void applyWhole(const RenderTarget& target, const PixelRect& reach);
+    // The bright pass over the sources, read back; the rest on the CPU within reach of its
+    // light (lens_cpu_passes.h), the composite in the tiles it reaches (LensCulling::Culled).
+    void applyCulled(const RenderTarget& target, const Area& area);
     // Culled: down_[0]'s texels under `area` into cpuLevels_[0], linear.
     void readBrightRegion(const PixelRect& area);
     // Culled: the frame's tiles within reach of a texel of the bright image that holds light,

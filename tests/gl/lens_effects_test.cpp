@@ -104,7 +104,7 @@ protected:
             for (const glm::ivec2 spot : spots)
                 glTexSubImage2D(GL_TEXTURE_2D, 0, spot.x, spot.y, 1, 1, format, GL_FLOAT, texel);
         }
-        lens->apply(*target_, {0, 0, kSize, kSize});
+        lens->apply(*target_, PixelRect{0, 0, kSize, kSize});
         EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
         return lens;
     }
