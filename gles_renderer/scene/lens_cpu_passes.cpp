@@ -50,9 +50,10 @@ void downsampleRegion(const RadianceRegion& source, RadianceRegion& level)
     }
 }
 
-void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, float weight, RadianceRegion& out)
+void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, float weight, RadianceRegion& out,
+                    const PixelRect& within)
 {
-    const PixelRect& texels = out.texels();
+    const PixelRect texels = intersection(within, out.texels());
     if (texels.empty())
         return;
     // Doubling bilinearly samples the coarser image at x / 2 - 0.25 (texel centres at +0.5):
@@ -70,7 +71,7 @@ void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, 
         const int ya = std::clamp(below, 0, coarser.height() - 1), yb = std::clamp(below + 1, 0, coarser.height() - 1);
         for (int x = coarseX0; x < coarseX1; ++x)
             blended[size_t(x - coarseX0)] = glm::mix(coarser.at(x, ya), coarser.at(x, yb), fy);
-        float* o = out.row(y);
+        float* o = out.row(y) + size_t(texels.x0 - out.texels().x0) * 3;
         for (int x = texels.x0; x < texels.x1; ++x, o += 3) {
             const int left = x % 2 == 0 ? x / 2 - 1 : x / 2;
             const float fx = x % 2 == 0 ? 0.75f : 0.25f;

@@ -66,9 +66,10 @@ private:
 // as reset) the mean of the 2 x 2 texels of `source` under it.
 void downsampleRegion(const RadianceRegion& source, RadianceRegion& level);
 
-// lens_upsample.frag: each texel of `out` (its region, as reset; within `level`'s) is
+// lens_upsample.frag: each texel of `out` within `texels` (and its region, as reset) is
 // `level`'s texel weighted by `weight` plus `coarser` bilinearly doubled, by 1 - weight.
-void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, float weight, RadianceRegion& out);
+void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, float weight, RadianceRegion& out,
+                    const PixelRect& texels);
 
 // lens_glare.frag with float images: each texel of `out` (its region, as reset; the same
 // image size as `source`) gathers `source` from behind it along every streak (`steps`: one

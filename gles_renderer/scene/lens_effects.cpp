@@ -565,32 +565,54 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         cpuLevels_[k].reset(levelSizes_[k].x, levelSizes_[k].y, levelTexels(sourceBounds, 2 << k));
         downsampleRegion(cpuLevels_[k - 1], cpuLevels_[k]);
     }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    const auto upload = [](GLuint texture, const RadianceRegion& region) {
-        const PixelRect& texels = region.texels();
-        if (texels.empty())
-            return;
-        glBindTexture(GL_TEXTURE_2D, texture);
-        glTexSubImage2D(GL_TEXTURE_2D, 0, texels.x0, texels.y0, texels.x1 - texels.x0, texels.y1 - texels.y0, GL_RGB,
-                        GL_FLOAT, region.row(texels.y0));
-    };
-    if (options_.bloom && bloomLevels_ > 0) {
-        for (int k = bloomLevels_ - 2; k >= 0; --k) {
+    // Up the pyramid to its second level over the bounds, the glare there too (both small);
+    // the finest level, the bloom itself, only where the composite will draw.
+    const bool bloom = options_.bloom && bloomLevels_ > 0;
+    if (bloom)
+        for (int k = bloomLevels_ - 2; k >= 1; --k) {
             RadianceRegion& up = cpuUp_[size_t(k)];
             up.reset(levelSizes_[size_t(k)].x, levelSizes_[size_t(k)].y, levelTexels(bounds, 2 << k));
             upsampleRegion(cpuLevels_[size_t(k)],
                            k + 2 == bloomLevels_ ? cpuLevels_[size_t(k + 1)] : cpuUp_[size_t(k + 1)],
-                           1.0f / float(bloomLevels_ - k), up);
+                           1.0f / float(bloomLevels_ - k), up, up.texels());
         }
-        upload(bloomUpload_.name(), bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0]);
-    }
     if (glare_) {
         cpuGlare_.reset(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, levelTexels(bounds, kGlareScale));
         gatherGlareRegion(cpuLevels_[kGlareLevel], glareSteps_, glareWeights_, cpuGlare_);
-        upload(glareUpload_.name(), cpuGlare_);
     }
+    const std::vector<PixelRect> reached = reachedTiles(tiles);
+    PixelRect reachedBounds;
+    for (const PixelRect& rect : reached)
+        reachedBounds = bounding(reachedBounds, rect);
+    if (bloom && bloomLevels_ > 1) {
+        RadianceRegion& up = cpuUp_[0];
+        up.reset(levelSizes_[0].x, levelSizes_[0].y, levelTexels(reachedBounds, 2));
+        for (const PixelRect& rect : reached)
+            upsampleRegion(cpuLevels_[0], bloomLevels_ == 2 ? cpuLevels_[1] : cpuUp_[1], 1.0f / float(bloomLevels_), up,
+                           levelTexels(rect, 2));
+    }
+    // Uploaded where the composite reads them: its rectangles' texels, one round their
+    // footprint (what the bilinear reads take).
+    const auto upload = [&reached](GLuint texture, const RadianceRegion& region, int scale) {
+        const PixelRect& held = region.texels();
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, held.x1 - held.x0);
+        for (const PixelRect& rect : reached) {
+            const PixelRect texels = intersection(levelTexels(rect, scale), held);
+            if (texels.empty())
+                continue;
+            glTexSubImage2D(GL_TEXTURE_2D, 0, texels.x0, texels.y0, texels.x1 - texels.x0, texels.y1 - texels.y0,
+                            GL_RGB, GL_FLOAT, region.row(texels.y0) + size_t(texels.x0 - held.x0) * 3);
+        }
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    };
+    if (bloom)
+        upload(bloomUpload_.name(), bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0], 2);
+    if (glare_)
+        upload(glareUpload_.name(), cpuGlare_, kGlareScale);
     checkGlError("uploading the lens effects");
-    composite(target, reachedTiles(tiles), bounds, bloomUpload_.name(), glareUpload_.name());
+    composite(target, reached, bounds, bloomUpload_.name(), glareUpload_.name());
 }
 
 std::vector<PixelRect> LensEffects::reachedTiles(std::span<const PixelRect> candidates) const
@@ -599,8 +621,13 @@ std::vector<PixelRect> LensEffects::reachedTiles(std::span<const PixelRect> cand
     // what the composite keeps (kCompositeNothing) well within it: in the car scene with bloom,
     // 50k of the 190k pixels within reach. A bilinear read is never above the largest texel it
     // reads, so a tile whose texels (one round its footprint) stay below is left out.
-    const RadianceRegion* bloom =
-        options_.bloom && bloomLevels_ > 0 ? (bloomLevels_ > 1 ? &cpuUp_[0] : &cpuLevels_[0]) : nullptr;
+    // The bloom's finest level is not computed yet: it mixes the bright image (weight w) and
+    // the next level doubled (1 - w), each no more than its largest texel under the tile.
+    const bool bloomOn = options_.bloom && bloomLevels_ > 0;
+    const RadianceRegion* bright = bloomOn ? &cpuLevels_[0] : nullptr;
+    const RadianceRegion* coarser =
+        bloomOn && bloomLevels_ > 1 ? (bloomLevels_ == 2 ? &cpuLevels_[1] : &cpuUp_[1]) : nullptr;
+    const float brightWeight = bloomLevels_ > 1 ? 1.0f / float(bloomLevels_) : 1.0f;
     const RadianceRegion* glare = glare_ ? &cpuGlare_ : nullptr;
     const auto largest = [](const RadianceRegion* image, int scale, const PixelRect& pixels) {
         float most = 0.0f;
@@ -624,8 +651,12 @@ std::vector<PixelRect> LensEffects::reachedTiles(std::span<const PixelRect> cand
                 if (tile.empty())
                     continue;
                 // RGB16F rounds the uploaded values by up to 2^-11 of themselves: 1 % to spare.
-                const float added = options_.bloomIntensity * largest(bloom, 2, tile) +
-                                    options_.glareIntensity * largest(glare, kGlareScale, tile);
+                // The finest level's texels read the next level's one texel further out.
+                const PixelRect around{tile.x0 - 2, tile.y0 - 2, tile.x1 + 2, tile.y1 + 2};
+                const float bloom =
+                    brightWeight * largest(bright, 2, tile) + (1.0f - brightWeight) * largest(coarser, 4, around);
+                const float added =
+                    options_.bloomIntensity * bloom + options_.glareIntensity * largest(glare, kGlareScale, tile);
                 if (added * 1.01f < kCompositeNothing)
                     continue;
                 const std::array<glm::dvec2, 4> square{
