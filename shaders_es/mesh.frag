@@ -21,6 +21,7 @@ layout(std140) uniform Frame {
     vec4 lightDirection;  // xyz: towards the light; w: 1 = sample the shadow map
     vec4 lightIrradiance; // rgb: irradiance at normal incidence; w: 1 = a light is set
     vec4 shadowParams;    // x: PCF radius (texels), y: 1 / map size, z: normal offset (metres), w: depth bias
+    vec4 lensParams;      // x: the lens effects' bright threshold (fragRadiance)
 };
 
 #include "material_block.glsl"
@@ -128,7 +129,9 @@ in vec3 vShadowNormal;
 
 layout(location = 0) out vec4 fragColor;
 // The frame's second attachment, where lens effects are on (gles_renderer/scene/lens_effects.h):
-// the virtual radiance times the exposure, linear HDR (RGBM where the maps are). Without that
+// the bright part of the virtual radiance times the exposure, what lies above the threshold
+// (lensParams.x), linear HDR (RGBM where the maps are). Thresholded here, texel by texel,
+// it is mostly 0 and a software rasteriser's lens effects read it back as it is. Without that
 // attachment (lens effects off, cube faces) the write goes nowhere.
 layout(location = 1) out vec4 fragRadiance;
 
@@ -244,7 +247,7 @@ void main()
         vec4 mapTexel = encodeMapTexel(colour, MAPS_RGBM);
         fragColor = WRITES_RADIANCE ? vec4(mapTexel.rgb, blendable ? alpha : mapTexel.a)
                                         : vec4(encodeSrgb(colour), alpha);
-        fragRadiance = encodeMapTexel(colour * frameParams.w, MAPS_RGBM);
+        fragRadiance = encodeMapTexel(max(colour * frameParams.w - lensParams.x, 0.0), MAPS_RGBM);
         if (!MAPS_RGBM)
             fragRadiance.a = alpha;
         return;
@@ -370,7 +373,7 @@ void main()
 
     fragColor = WRITES_RADIANCE ? encodeMapTexel(radiance, MAPS_RGBM)
                                     : vec4(encodeSrgb(cameraResponse(radiance * frameParams.w)), 1.0);
-    fragRadiance = encodeMapTexel(radiance * frameParams.w, MAPS_RGBM);
+    fragRadiance = encodeMapTexel(max(radiance * frameParams.w - lensParams.x, 0.0), MAPS_RGBM);
     // BLEND: the coverage goes out as alpha wherever the target is not RGBM-encoded.
     if (!WRITES_RADIANCE || !MAPS_RGBM)
         fragColor.a = alpha;

@@ -10,6 +10,7 @@ layout(std140) uniform Frame {
     vec4 lightDirection;
     vec4 lightIrradiance;
     vec4 shadowParams;
+    vec4 lensParams;
 };
 
 uniform mat4 uCameraFromMesh;

@@ -297,6 +297,7 @@ private:
         for (int c = 0; c < 3; ++c)
             frame_.environmentFromCamera[c] = glm::vec4(environmentFromCamera[c], 0.0f);
         frame_.frameParams = glm::vec4(1.0f, 0.0f, probes_.rgbm() ? 1.0f : 0.0f, exposure_);
+        frame_.lensParams.x = lens_ ? lens_->threshold() : 0.0f;
         shadows_.fillView(frame_, glm::dmat4(1.0));
         shadows_.drawReceivers(frame_, models_, items, maps);
         if (profile_)

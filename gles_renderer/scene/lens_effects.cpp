@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -91,6 +92,24 @@ std::string sourceRgbmDefine(bool rgbm)
     return std::string("#define LENS_SOURCE_RGBM ") + (rgbm ? "1" : "0") + "\n";
 }
 
+// GL_R11F_G11F_B10F's small unsigned floats (5 exponent bits, bias 15; 6 or 5 mantissa
+// bits): a float's bits, or the denormals scaled; infinity as the largest value, NaN as 0.
+float unpackSmallFloat(uint32_t bits, int mantissaBits)
+{
+    const uint32_t exponent = bits >> mantissaBits, mantissa = bits & ((1u << mantissaBits) - 1u);
+    if (exponent == 0)
+        return std::ldexp(float(mantissa), -14 - mantissaBits);
+    if (exponent == 31)
+        return mantissa == 0 ? 65024.0f : 0.0f;
+    return std::bit_cast<float>(((exponent + 112u) << 23) | (mantissa << (23 - mantissaBits)));
+}
+
+glm::vec3 unpackR11G11B10F(uint32_t texel)
+{
+    return {unpackSmallFloat(texel & 0x7ffu, 6), unpackSmallFloat((texel >> 11) & 0x7ffu, 6),
+            unpackSmallFloat(texel >> 22, 5)};
+}
+
 void bindTexture(GLint unit, GLuint texture)
 {
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
@@ -125,16 +144,24 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
         glBindRenderbuffer(GL_RENDERBUFFER, multisampledRadiance_.name());
         glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, format, width_, height_);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, multisampledRadiance_.name());
-        resolveFramebuffer_ = GlFramebuffer::create();
     } else {
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, radiance_.name(), 0);
     }
     endVirtual(); // attachment 1 stays out of every other pass
     checkFramebufferComplete("the frame with the lens effects' radiance image");
-    if (samples_ > 1) {
-        glBindFramebuffer(GL_FRAMEBUFFER, resolveFramebuffer_.name());
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, radiance_.name(), 0);
-        checkFramebufferComplete("the lens effects' radiance resolve");
+    radianceFramebuffer_ = GlFramebuffer::create();
+    glBindFramebuffer(GL_FRAMEBUFFER, radianceFramebuffer_.name());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, radiance_.name(), 0);
+    checkFramebufferComplete("the lens effects' radiance image");
+    // Culled, the bright image is the radiance halved on the CPU where the radiance reads back
+    // as it is stored (packed floats): no bright pass, which on llvmpipe fetched four texels
+    // (unpacked one by one) for each of the bright image's (car.toml with bloom: 1.3 ms of
+    // wall time for the pass against 0.4 ms for the read and the halving).
+    if (culled_ && radianceFormat_ == GL_R11F_G11F_B10F) {
+        GLint readFormat = 0, readType = 0;
+        glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_FORMAT, &readFormat);
+        glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &readType);
+        readsRadiance_ = readFormat == GL_RGB && readType == GL_UNSIGNED_INT_10F_11F_11F_REV;
     }
 
     // The pyramid: levels whose texels are 2, 4, ... output pixels, the coarsest no wider
@@ -153,7 +180,7 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     if (culled_) {
         // The bright pass's image alone is GL's; the bloom and the glare come back from the
         // CPU as float images (RGB16F filters on every GLES 3), sampled once per pixel.
-        if (!levelSizes_.empty())
+        if (!levelSizes_.empty() && !readsRadiance_)
             down_.push_back(makeLevel(levelSizes_[0].x, levelSizes_[0].y));
         cpuLevels_.resize(levelSizes_.size());
         cpuUp_.resize(levelSizes_.size());
@@ -189,9 +216,11 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     // the glare both ways (bilinear and texel by texel) whichever was on (issue 18: the car
     // scene with bloom on llvmpipe: post 27.7 -> 21.7 ms of CPU).
     const std::string formatDefine = rgbmDefine(rgbm_);
-    downsample_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(rgbm_));
-    if (radianceRgbm_ != rgbm_)
-        brightPass_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(radianceRgbm_));
+    if (!readsRadiance_) {
+        downsample_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(rgbm_));
+        if (radianceRgbm_ != rgbm_)
+            brightPass_ = linkProgram(kLensDownsampleProgram, formatDefine + sourceRgbmDefine(radianceRgbm_));
+    }
     for (const GlProgram* program : {&downsample_, &brightPass_}) {
         if (!*program)
             continue;
@@ -370,6 +399,39 @@ void LensEffects::readBrightRegion(const PixelRect& area)
     checkGlError("reading the lens effects' bright image");
 }
 
+void LensEffects::readRadianceHalved(const PixelRect& sourceBounds)
+{
+    RadianceRegion& region = cpuLevels_[0];
+    region.reset(levelSizes_[0].x, levelSizes_[0].y, levelTexels(sourceBounds, 2));
+    const PixelRect& texels = region.texels();
+    if (texels.empty())
+        return;
+    // Waits for the rasteriser: the frame's shading.
+    const PixelRect pixels =
+        intersection({2 * texels.x0, 2 * texels.y0, 2 * texels.x1, 2 * texels.y1}, {0, 0, width_, height_});
+    const int w = pixels.x1 - pixels.x0, h = pixels.y1 - pixels.y0;
+    packedRadiance_.resize(size_t(w) * size_t(h));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, radianceFramebuffer_.name());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(pixels.x0, pixels.y0, w, h, GL_RGB, GL_UNSIGNED_INT_10F_11F_11F_REV, packedRadiance_.data());
+    checkGlError("reading the lens effects' radiance");
+    // lens_downsample.frag: a quarter of the 2 x 2 pixels under each texel. Most pixels hold
+    // no light above the threshold: 0 bits.
+    for (int y = 0; y < h; ++y) {
+        const uint32_t* in = &packedRadiance_[size_t(y) * size_t(w)];
+        float* row = region.row((pixels.y0 + y) / 2) - size_t(texels.x0) * 3;
+        for (int x = 0; x < w; ++x) {
+            if (in[x] == 0)
+                continue;
+            const glm::vec3 radiance = unpackR11G11B10F(in[x]);
+            float* out = row + size_t((pixels.x0 + x) / 2) * 3;
+            out[0] += 0.25f * radiance.r;
+            out[1] += 0.25f * radiance.g;
+            out[2] += 0.25f * radiance.b;
+        }
+    }
+}
+
 std::vector<PixelRect> LensEffects::litTiles(const PixelRect& area) const
 {
     // A tile beyond reach of the bright image's lit texels gets nothing.
@@ -471,7 +533,7 @@ void LensEffects::apply(const RenderTarget& target, const Area& area)
     if (samples_ > 1) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, targetFramebuffer_);
         glReadBuffer(GL_COLOR_ATTACHMENT1);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolveFramebuffer_.name());
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, radianceFramebuffer_.name());
         glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         glReadBuffer(GL_COLOR_ATTACHMENT0);
     }
@@ -492,7 +554,8 @@ void LensEffects::applyWhole(const RenderTarget& target, const PixelRect& reach)
         const GlProgram& program = k == 0 && brightPass_ ? brightPass_ : downsample_;
         if (k <= 1) {
             glUseProgram(program.name());
-            glUniform1f(uniformLocation(program, "uThreshold"), k == 0 ? options_.threshold : 0.0f);
+            // The radiance holds only the light above the threshold (mesh.frag).
+            glUniform1f(uniformLocation(program, "uThreshold"), 0.0f);
         }
         bindTexture(0, k == 0 ? radiance_.name() : down_[k - 1].texture.name());
         drawInto(down_[k], kEverything);
@@ -523,31 +586,36 @@ void LensEffects::applyWhole(const RenderTarget& target, const PixelRect& reach)
 
 void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
 {
-    if (down_.empty())
+    if (levelSizes_.empty())
         return;
-    // The bright pass, cleared and drawn over the sources only: the radiance is 0 elsewhere,
-    // so the image is whole. Between the objects and round them lie most of the texels within
-    // reach (car.toml: the four objects' bounds hold 247k of its 575k pixels).
-    const GlProgram& program = brightPass_ ? brightPass_ : downsample_;
-    glUseProgram(program.name());
-    glUniform1f(uniformLocation(program, "uThreshold"), options_.threshold);
-    bindTexture(0, radiance_.name());
-    glBindFramebuffer(GL_FRAMEBUFFER, down_[0].framebuffer.name());
-    const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glClearBufferfv(GL_COLOR, 0, zero);
-    glViewport(0, 0, down_[0].width, down_[0].height);
-    glEnable(GL_SCISSOR_TEST);
     PixelRect sourceBounds;
-    for (const PixelRect& source : area.sources) {
-        const PixelRect texels = intersection(levelTexels(source, 2), {0, 0, down_[0].width, down_[0].height});
-        if (texels.empty())
-            continue;
-        glScissor(texels.x0, texels.y0, texels.x1 - texels.x0, texels.y1 - texels.y0);
-        drawFullscreenTriangle();
+    for (const PixelRect& source : area.sources)
         sourceBounds = bounding(sourceBounds, source);
+    if (readsRadiance_) {
+        readRadianceHalved(sourceBounds);
+    } else {
+        // The bright pass, cleared and drawn over the sources only: the radiance is 0
+        // elsewhere, so the image is whole. Between the objects and round them lie most of the
+        // texels within reach (car.toml: the four objects' bounds hold 247k of its 575k pixels).
+        const GlProgram& program = brightPass_ ? brightPass_ : downsample_;
+        glUseProgram(program.name());
+        glUniform1f(uniformLocation(program, "uThreshold"), 0.0f);
+        bindTexture(0, radiance_.name());
+        glBindFramebuffer(GL_FRAMEBUFFER, down_[0].framebuffer.name());
+        const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glClearBufferfv(GL_COLOR, 0, zero);
+        glViewport(0, 0, down_[0].width, down_[0].height);
+        glEnable(GL_SCISSOR_TEST);
+        for (const PixelRect& source : area.sources) {
+            const PixelRect texels = intersection(levelTexels(source, 2), {0, 0, down_[0].width, down_[0].height});
+            if (texels.empty())
+                continue;
+            glScissor(texels.x0, texels.y0, texels.x1 - texels.x0, texels.y1 - texels.y0);
+            drawFullscreenTriangle();
+        }
+        glDisable(GL_SCISSOR_TEST);
+        readBrightRegion(sourceBounds);
     }
-    glDisable(GL_SCISSOR_TEST);
-    readBrightRegion(sourceBounds);
 
     const std::vector<PixelRect> tiles = litTiles(area.reach);
     PixelRect bounds;
@@ -720,12 +788,14 @@ ImageF LensEffects::read(const Level& level) const
 
 ImageF LensEffects::readBright() const
 {
+    if (culled_)
+        return cpuLevels_.empty() ? ImageF() : cpuLevels_[0].image();
     return down_.empty() ? ImageF() : read(down_[0]);
 }
 
 ImageF LensEffects::readBloom() const
 {
-    if (!options_.bloom || down_.empty())
+    if (!options_.bloom || levelSizes_.empty())
         return ImageF();
     if (culled_) {
         const RadianceRegion& bloom = bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0];

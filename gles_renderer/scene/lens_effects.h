@@ -1,19 +1,23 @@
 // Lens effects on the virtual objects' light (DESIGN.md §6.5): bloom and glare streaks from
 // what is bright in the virtual contribution, added onto the frame.
 //
-// The objects' linear radiance (times the exposure) is drawn beside the frame's colour into a
-// second attachment of the frame's framebuffer (mesh.frag's fragRadiance): RGBA16F where it
-// renders, else RGBA8 RGBM like the environment maps. After the mesh pass a bright pass and a
-// pyramid of 2 x 2 box downsamples (half size first) hold the light above the threshold; the
-// bloom climbs back up it, every level bilinearly doubled and mixed with the next finer one so
-// each level has an equal share; the glare streaks gather the eighth-size level along the
-// configured rays. Both conserve the bright light's energy (sum of radiance x area), scaled by
-// their intensities, and are added to the frame in linear light (lens_composite.frag), which
-// leaves every pixel they do not reach exactly as it was. Culled (LensCulling; a software
-// rasteriser's choice) the bright image is read back once, the pyramid and the glare are
-// computed on the CPU within reach of its lit texels (lens_cpu_passes.h), and the composite
-// is drawn only in the tiles they reach: the car scene with bloom on llvmpipe, post
-// 21.7 -> 8.2 ms of CPU (the composite had shaded 578k pixels for 22k that change).
+// The part of the objects' linear radiance (times the exposure) above the threshold is drawn
+// beside the frame's colour into a second attachment of the frame's framebuffer (mesh.frag's
+// fragRadiance): R11F_G11F_B10F or RGBA16F where they render, else RGBA8 RGBM like the
+// environment maps. A pyramid of 2 x 2 box downsamples (half size first) holds that bright
+// light; the bloom climbs back up it, every level bilinearly doubled and mixed with the next
+// finer one so each level has an equal share; the glare streaks gather the eighth-size level
+// along the configured rays. Both conserve the bright light's energy (sum of radiance x area),
+// scaled by their intensities, and are added to the frame in linear light
+// (lens_composite.frag), which leaves every pixel they do not reach exactly as it was.
+//
+// Whole (LensCulling; a GPU's choice): every step is a GL pass over whole images. Culled (a
+// software rasteriser's): the radiance under the objects is read back and halved on the CPU
+// (or, where it does not read back as stored, drawn there by a bright pass and read), the
+// pyramid and the glare are computed on the CPU within reach of its lit texels
+// (lens_cpu_passes.h), and the composite is drawn only in the tiles where they add light,
+// reading the frame where it draws (framebuffer fetch). The car scene with bloom on llvmpipe:
+// lens effects 12.3 -> 5.2 ms of CPU a frame (1e66675 -> this), 27.7 ms before dce723b.
 #pragma once
 
 #include <span>
@@ -78,6 +82,9 @@ public:
     [[nodiscard]] bool radianceRgbm() const { return radianceRgbm_; }
     // Its internal format: RGBA8 (RGBM), R11F_G11F_B10F or RGBA16F.
     [[nodiscard]] GLenum radianceFormat() const { return radianceFormat_; }
+    // Light above it feeds the effects: mesh.frag writes only that part into the radiance
+    // image (FrameUniforms::lensParams).
+    [[nodiscard]] float threshold() const { return options_.threshold; }
     [[nodiscard]] bool rgbm() const { return rgbm_; } // the pyramid's
     [[nodiscard]] bool culled() const { return culled_; }
     // The composite reads the frame's pixels where it draws them (framebuffer fetch), not
@@ -98,6 +105,9 @@ private:
     // The bright pass over the sources, read back; the rest on the CPU within reach of its
     // light (lens_cpu_passes.h), the composite in the tiles it reaches (LensCulling::Culled).
     void applyCulled(const RenderTarget& target, const Area& area);
+    // Culled, readsRadiance_: the radiance under `sourceBounds` read back and halved (2 x 2
+    // means) into cpuLevels_[0].
+    void readRadianceHalved(const PixelRect& sourceBounds);
     // Culled: down_[0]'s texels under `area` into cpuLevels_[0], linear.
     void readBrightRegion(const PixelRect& area);
     // Culled: the frame's tiles within reach of a texel of the bright image that holds light,
@@ -119,14 +129,15 @@ private:
     bool radianceRgbm_;
     GLenum radianceFormat_ = GL_RGBA16F;
     bool rgbm_;
-    bool culled_; // LensCulling, decided
-    bool fetch_;  // GL_EXT_shader_framebuffer_fetch on a single-sampled target
+    bool culled_;                // LensCulling, decided
+    bool fetch_;                 // GL_EXT_shader_framebuffer_fetch on a single-sampled target
+    bool readsRadiance_ = false; // culled: the bright image from the radiance read back, no bright pass
     int width_;
     int height_;
     int samples_;
     GlTexture radiance_;                  // single-sampled, read by the bright pass
     GlRenderbuffer multisampledRadiance_; // drawn into when the target is multisampled
-    GlFramebuffer resolveFramebuffer_;    // radiance_ as a blit destination (multisampled only)
+    GlFramebuffer radianceFramebuffer_;   // radiance_ alone: resolved into (multisampled), read back
     GLuint targetFramebuffer_;
     std::vector<glm::ivec2> levelSizes_; // the pyramid's, [0]: half the frame's size
     int bloomLevels_ = 0;
@@ -141,7 +152,8 @@ private:
     std::vector<RadianceRegion> cpuLevels_; // [0]: the bright image, read back
     std::vector<RadianceRegion> cpuUp_;
     RadianceRegion cpuGlare_;
-    std::vector<uint8_t> brightBytes_; // the bright image's texels as read back
+    std::vector<uint8_t> brightBytes_;     // the bright image's texels as read back
+    std::vector<uint32_t> packedRadiance_; // readsRadiance_: the radiance's R11F_G11F_B10F texels
     GlTexture bloomUpload_;
     GlTexture glareUpload_;
     Level frameCopy_;        // RGBA8 copy of the frame, read by the composite (without fetch_)

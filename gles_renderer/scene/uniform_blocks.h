@@ -37,6 +37,9 @@ struct FrameUniforms {
     // x: PCF kernel radius (texels), y: 1 / map size, z: the normal offset (metres: shadow.glsl's
     // lookups move a point this far along its normal), w: depth bias (shadow-map depth units).
     glm::vec4 shadowParams{0.0f};
+    // x: the lens effects' bright threshold: mesh.frag's second output is the radiance x
+    // exposure above it (lens_effects.h). Only mesh.vert / mesh.frag declare it.
+    glm::vec4 lensParams{0.0f};
 };
 static_assert(offsetof(FrameUniforms, clipFromCamera) == 0);
 static_assert(offsetof(FrameUniforms, environmentFromCamera) == 64);
@@ -45,7 +48,8 @@ static_assert(offsetof(FrameUniforms, lightClipFromCamera) == 128);
 static_assert(offsetof(FrameUniforms, lightDirection) == 192);
 static_assert(offsetof(FrameUniforms, lightIrradiance) == 208);
 static_assert(offsetof(FrameUniforms, shadowParams) == 224);
-static_assert(sizeof(FrameUniforms) == 240);
+static_assert(offsetof(FrameUniforms, lensParams) == 240);
+static_assert(sizeof(FrameUniforms) == 256);
 
 // Per material: "uniform Material", declared once in shaders_es/material_block.glsl and
 // included by mesh.frag, phantom.frag and depth_only.frag (its cut-out variant).
