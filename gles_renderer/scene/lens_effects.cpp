@@ -419,12 +419,12 @@ void LensEffects::readRadianceHalved(const PixelRect& sourceBounds)
     // no light above the threshold: 0 bits.
     for (int y = 0; y < h; ++y) {
         const uint32_t* in = &packedRadiance_[size_t(y) * size_t(w)];
-        float* row = region.row((pixels.y0 + y) / 2) - size_t(texels.x0) * 3;
+        float* row = region.row((pixels.y0 + y) / 2);
         for (int x = 0; x < w; ++x) {
             if (in[x] == 0)
                 continue;
             const glm::vec3 radiance = unpackR11G11B10F(in[x]);
-            float* out = row + size_t((pixels.x0 + x) / 2) * 3;
+            float* out = row + size_t((pixels.x0 + x) / 2 - texels.x0) * 3;
             out[0] += 0.25f * radiance.r;
             out[1] += 0.25f * radiance.g;
             out[2] += 0.25f * radiance.b;
