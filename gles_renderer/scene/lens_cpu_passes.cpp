@@ -1,10 +1,33 @@
 #include "gles_renderer/scene/lens_cpu_passes.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 
 namespace lumar {
+namespace {
+
+// GL_R11F_G11F_B10F's small unsigned floats (5 exponent bits, bias 15; 6 or 5 mantissa
+// bits): a float's bits, or the denormals scaled; infinity as the largest finite value,
+// NaN as 0.
+float unpackSmallFloat(uint32_t bits, int mantissaBits)
+{
+    const uint32_t exponent = bits >> mantissaBits, mantissa = bits & ((1u << mantissaBits) - 1u);
+    if (exponent == 0)
+        return std::ldexp(float(mantissa), -14 - mantissaBits);
+    if (exponent == 31)
+        return mantissa == 0 ? std::ldexp(2.0f - std::ldexp(1.0f, -mantissaBits), 15) : 0.0f;
+    return std::bit_cast<float>(((exponent + 112u) << 23) | (mantissa << (23 - mantissaBits)));
+}
+
+} // namespace
+
+glm::vec3 unpackR11G11B10F(uint32_t texel)
+{
+    return {unpackSmallFloat(texel & 0x7ffu, 6), unpackSmallFloat((texel >> 11) & 0x7ffu, 6),
+            unpackSmallFloat(texel >> 22, 5)};
+}
 
 void RadianceRegion::reset(int width, int height, const PixelRect& texels)
 {

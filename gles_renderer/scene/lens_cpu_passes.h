@@ -11,6 +11,7 @@
 // texel.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -77,5 +78,11 @@ void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, 
 // all the streaks' weight.
 void gatherGlareRegion(const RadianceRegion& source, std::span<const glm::vec2> steps, std::span<const float> weights,
                        RadianceRegion& out);
+
+// A GL_R11F_G11F_B10F texel as glReadPixels gives it (GL_UNSIGNED_INT_10F_11F_11F_REV):
+// red in bits 0-10, green 11-21, blue 22-31; unsigned floats of 5 exponent bits (bias 15)
+// and 6, 6, 5 mantissa bits. Infinity comes back as the channel's largest finite value
+// (65024 or 64512), NaN as 0.
+[[nodiscard]] glm::vec3 unpackR11G11B10F(uint32_t texel);
 
 } // namespace lumar

@@ -212,22 +212,6 @@ void ShadowPass::linkDepthProgram()
     depthProgram_ = linkProgram(kDepthOnlyProgram);
     depthCameraFromMeshLocation_ = uniformLocation(depthProgram_, "uCameraFromMesh");
     bindUniformBlock(depthProgram_, "Frame", kFrameBlockBinding);
-    // glTF alphaMode MASK: the surface cut where mesh.frag cuts it; BLEND and transmission:
-    // dithered by their opacity (depth_only.frag). Without a base colour texture (the car's
-    // glass) the alpha is the factor alone: a variant without the lookup.
-    for (int textured = 0; textured < 2; ++textured) {
-        CutoutProgram& cutout = cutoutPrograms_[textured];
-        cutout.program =
-            linkProgram(kDepthOnlyProgram, textured ? "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 1\n"
-                                                    : "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 0\n");
-        cutout.cameraFromMesh = uniformLocation(cutout.program, "uCameraFromMesh");
-        bindUniformBlock(cutout.program, "Frame", kFrameBlockBinding);
-        bindUniformBlock(cutout.program, "Material", kMaterialBlockBinding);
-        if (textured) {
-            glUseProgram(cutout.program.name());
-            glUniform1i(uniformLocation(cutout.program, "uBaseColor"), GLint(kCutoutTextureUnit));
-        }
-    }
     // The map's stencil: each texel its threshold in the 4 x 4 Bayer matrix, written once
     // (every texel by exactly one of the 16 draws; the casters' pass clears depth alone).
     const GlProgram dither = linkProgram(kShadowDitherStencilProgram);
@@ -668,7 +652,7 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
         glActiveTexture(GL_TEXTURE0 + kCutoutTextureUnit);
         const CutoutProgram* bound = nullptr;
         for (const Cutout& c : cutouts) {
-            const CutoutProgram& program = cutoutPrograms_[textured(c) ? 1 : 0];
+            const CutoutProgram& program = cutoutProgram(textured(c));
             if (bound != &program) {
                 glUseProgram(program.program.name());
                 bound = &program;
@@ -684,6 +668,29 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     glBindVertexArray(0);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glDisable(GL_SCISSOR_TEST);
+}
+
+// glTF alphaMode MASK: the surface cut where mesh.frag cuts it; BLEND and transmission:
+// dithered by their opacity (depth_only.frag). Without a base colour texture (the car's
+// glass) the alpha is the factor alone: a variant without the lookup. Each linked when a
+// caster first needs it: a linked program holds about 1.4 MB on llvmpipe, and car.toml
+// never needs the textured one.
+const ShadowPass::CutoutProgram& ShadowPass::cutoutProgram(bool textured) const
+{
+    CutoutProgram& cutout = cutoutPrograms_[textured ? 1 : 0];
+    if (cutout.program)
+        return cutout;
+    cutout.program =
+        linkProgram(kDepthOnlyProgram, textured ? "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 1\n"
+                                                : "#define ALPHA_CUTOUT 1\n#define HAS_BASE_COLOR_TEXTURE 0\n");
+    cutout.cameraFromMesh = uniformLocation(cutout.program, "uCameraFromMesh");
+    bindUniformBlock(cutout.program, "Frame", kFrameBlockBinding);
+    bindUniformBlock(cutout.program, "Material", kMaterialBlockBinding);
+    if (textured) {
+        glUseProgram(cutout.program.name());
+        glUniform1i(uniformLocation(cutout.program, "uBaseColor"), GLint(kCutoutTextureUnit));
+    }
+    return cutout;
 }
 
 void ShadowPass::fillView(FrameUniforms& frame, const glm::dmat4& cameraFromView) const

@@ -195,7 +195,9 @@ private:
         GlProgram program;
         GLint cameraFromMesh = -1;
     };
-    CutoutProgram cutoutPrograms_[2];
+    // Linked at first use (cutoutProgram), from the const drawCasters: a cache.
+    mutable CutoutProgram cutoutPrograms_[2];
+    [[nodiscard]] const CutoutProgram& cutoutProgram(bool textured) const;
     // phantom_receiver.frag: [1] with the shadow map's lookups, for the tiles a prism
     // reaches; [0] without them (RECEIVER_SHADOW 0), for those only occluders reach, where
     // the lookups would all find the light unblocked. (llvmpipe runs every lookup and every
