@@ -1,12 +1,12 @@
 #version 300 es
 // One step down the bloom pyramid (gles_renderer/scene/lens_effects.h): the mean of the 2 x 2
-// source texels under this one, each first reduced by the bright-pass threshold (0 past the
-// first level). A texel covers four source texels, so the image's energy (sum x area) is kept.
+// source texels under this one; the first step reads the radiance, which holds only the light
+// above the threshold (mesh.frag). A texel covers four source texels, so the image's energy
+// (sum x area) is kept.
 precision highp float;
 precision highp sampler2D;
 
 uniform sampler2D uSource;
-uniform float uThreshold;
 
 out vec4 fragColor;
 
@@ -27,9 +27,7 @@ const bool kSourceRgbm = LENS_SOURCE_RGBM != 0; // the radiance image's format m
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy) * 2;
-    vec3 sum = max(fetchRadiance(uSource, p, kSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 0), kSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(0, 1), kSourceRgbm) - uThreshold, 0.0) +
-               max(fetchRadiance(uSource, p + ivec2(1, 1), kSourceRgbm) - uThreshold, 0.0);
+    vec3 sum = fetchRadiance(uSource, p, kSourceRgbm) + fetchRadiance(uSource, p + ivec2(1, 0), kSourceRgbm) +
+               fetchRadiance(uSource, p + ivec2(0, 1), kSourceRgbm) + fetchRadiance(uSource, p + ivec2(1, 1), kSourceRgbm);
     fragColor = encodeMapTexel(0.25 * sum, kRgbm);
 }

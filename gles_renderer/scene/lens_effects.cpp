@@ -116,15 +116,14 @@ LensEffects::LensEffects(const RenderTarget& target, const LensOptions& options,
     radianceFormat_ = radianceRgbm_                                 ? GL_RGBA8
                       : hasGlExtension("GL_EXT_color_buffer_float") ? GL_R11F_G11F_B10F
                                                                     : GL_RGBA16F;
-    const GLenum format = radianceFormat_;
     radiance_ = GlTexture::create();
     glBindTexture(GL_TEXTURE_2D, radiance_.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, format, width_, height_);
+    glTexStorage2D(GL_TEXTURE_2D, 1, radianceFormat_, width_, height_);
     glBindFramebuffer(GL_FRAMEBUFFER, targetFramebuffer_);
     if (samples_ > 1) {
         multisampledRadiance_ = GlRenderbuffer::create();
         glBindRenderbuffer(GL_RENDERBUFFER, multisampledRadiance_.name());
-        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, format, width_, height_);
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, radianceFormat_, width_, height_);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, multisampledRadiance_.name());
     } else {
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, radiance_.name(), 0);
@@ -334,51 +333,46 @@ int LensEffects::reachPixels() const
     return std::max(bloom, glare) + 4;
 }
 
-void LensEffects::readBrightRegion(const PixelRect& area)
+void LensEffects::readLevel(const Level& level, const PixelRect& texels, RadianceRegion& region,
+                            std::vector<uint8_t>& bytes) const
 {
-    // The bright pass's image (half size, the threshold applied) is where all of the effects'
-    // light comes from; only the texels under `area` can be lit (reach() bounds the objects).
-    // The read waits for the rasteriser: the frame and the bright pass.
-    const Level& bright = down_[0];
-    RadianceRegion& region = cpuLevels_[0];
-    region.reset(bright.width, bright.height, levelTexels(area, 2));
-    const PixelRect& texels = region.texels();
-    if (texels.empty())
+    region.reset(level.width, level.height, texels);
+    const PixelRect& held = region.texels();
+    if (held.empty())
         return;
-    const int w = texels.x1 - texels.x0, h = texels.y1 - texels.y0;
+    const int w = held.x1 - held.x0, h = held.y1 - held.y0;
     const size_t count = size_t(w) * size_t(h);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, bright.framebuffer.name());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, level.framebuffer.name());
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     if (rgbm_) {
-        brightBytes_.resize(count * 4);
-        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, brightBytes_.data());
+        bytes.resize(count * 4);
+        glReadPixels(held.x0, held.y0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
         // rgbm.glsl's decoding.
         constexpr float kRgbmRange = 16.0f;
         for (int y = 0; y < h; ++y) {
-            const uint8_t* in = &brightBytes_[size_t(y) * size_t(w) * 4];
-            float* out = region.row(texels.y0 + y);
+            const uint8_t* in = &bytes[size_t(y) * size_t(w) * 4];
+            float* out = region.row(held.y0 + y);
             for (int x = 0; x < w; ++x, in += 4, out += 3) {
                 if ((in[0] | in[1] | in[2]) == 0)
-                    continue; // most of them: the region is zero already
+                    continue; // the bright image's most: the region is zero already
                 const float scale = float(in[3]) / 255.0f * kRgbmRange;
                 for (int c = 0; c < 3; ++c)
                     out[c] = float(in[c]) / 255.0f * scale;
             }
         }
     } else {
-        brightBytes_.resize(count * 4 * sizeof(float));
-        glReadPixels(texels.x0, texels.y0, w, h, GL_RGBA, GL_FLOAT, brightBytes_.data());
+        bytes.resize(count * 4 * sizeof(float));
+        glReadPixels(held.x0, held.y0, w, h, GL_RGBA, GL_FLOAT, bytes.data());
         for (int y = 0; y < h; ++y) {
-            float* out = region.row(texels.y0 + y);
+            float* out = region.row(held.y0 + y);
             for (int x = 0; x < w; ++x, out += 3) {
                 float rgba[4];
-                std::memcpy(rgba, &brightBytes_[((size_t(y) * size_t(w) + size_t(x)) * 4) * sizeof(float)],
-                            sizeof rgba);
+                std::memcpy(rgba, &bytes[((size_t(y) * size_t(w) + size_t(x)) * 4) * sizeof(float)], sizeof rgba);
                 std::copy_n(rgba, 3, out);
             }
         }
     }
-    checkGlError("reading the lens effects' bright image");
+    checkGlError("reading a lens-effect image");
 }
 
 void LensEffects::readRadianceHalved(const PixelRect& sourceBounds)
@@ -533,12 +527,10 @@ void LensEffects::applyWhole(const RenderTarget& target, const PixelRect& reach)
 {
     constexpr PixelRect kEverything{0, 0, 1 << 30, 1 << 30};
     for (size_t k = 0; k < down_.size(); ++k) {
-        const GlProgram& program = k == 0 && brightPass_ ? brightPass_ : downsample_;
-        if (k <= 1) {
-            glUseProgram(program.name());
-            // The radiance holds only the light above the threshold (mesh.frag).
-            glUniform1f(uniformLocation(program, "uThreshold"), 0.0f);
-        }
+        // The radiance holds only the light above the threshold (mesh.frag): the first step
+        // is a plain downsample too, in the radiance's format where it differs.
+        if (k <= 1)
+            glUseProgram((k == 0 && brightPass_ ? brightPass_ : downsample_).name());
         bindTexture(0, k == 0 ? radiance_.name() : down_[k - 1].texture.name());
         drawInto(down_[k], kEverything);
     }
@@ -579,9 +571,7 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         // The bright pass, cleared and drawn over the sources only: the radiance is 0
         // elsewhere, so the image is whole. Between the objects and round them lie most of the
         // texels within reach (car.toml: the four objects' bounds hold 247k of its 575k pixels).
-        const GlProgram& program = brightPass_ ? brightPass_ : downsample_;
-        glUseProgram(program.name());
-        glUniform1f(uniformLocation(program, "uThreshold"), 0.0f);
+        glUseProgram((brightPass_ ? brightPass_ : downsample_).name());
         bindTexture(0, radiance_.name());
         glBindFramebuffer(GL_FRAMEBUFFER, down_[0].framebuffer.name());
         const GLfloat zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -596,7 +586,9 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
             drawFullscreenTriangle();
         }
         glDisable(GL_SCISSOR_TEST);
-        readBrightRegion(sourceBounds);
+        // The bright pass's image is where all of the effects' light comes from; only the
+        // texels under the sources can be lit. The read waits for the rasteriser.
+        readLevel(down_[0], levelTexels(sourceBounds, 2), cpuLevels_[0], brightBytes_);
     }
 
     const std::vector<PixelRect> tiles = litTiles(area.reach);
@@ -622,9 +614,7 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         for (int k = bloomLevels_ - 2; k >= 1; --k) {
             RadianceRegion& up = cpuUp_[size_t(k)];
             up.reset(levelSizes_[size_t(k)].x, levelSizes_[size_t(k)].y, levelTexels(bounds, 2 << k));
-            upsampleRegion(cpuLevels_[size_t(k)],
-                           k + 2 == bloomLevels_ ? cpuLevels_[size_t(k + 1)] : cpuUp_[size_t(k + 1)],
-                           1.0f / float(bloomLevels_ - k), up, up.texels());
+            upsampleRegion(cpuLevels_[size_t(k)], cpuCoarser(k), 1.0f / float(bloomLevels_ - k), up, up.texels());
         }
     if (glare_) {
         cpuGlare_.reset(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, levelTexels(bounds, kGlareScale));
@@ -638,8 +628,7 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         RadianceRegion& up = cpuUp_[0];
         up.reset(levelSizes_[0].x, levelSizes_[0].y, levelTexels(reachedBounds, 2));
         for (const PixelRect& rect : reached)
-            upsampleRegion(cpuLevels_[0], bloomLevels_ == 2 ? cpuLevels_[1] : cpuUp_[1], 1.0f / float(bloomLevels_), up,
-                           levelTexels(rect, 2));
+            upsampleRegion(cpuLevels_[0], cpuCoarser(0), 1.0f / float(bloomLevels_), up, levelTexels(rect, 2));
     }
     // Uploaded where the composite reads them: its rectangles' texels, one round their
     // footprint (what the bilinear reads take).
@@ -658,11 +647,21 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     };
     if (bloom)
-        upload(bloomUpload_.name(), bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0], 2);
+        upload(bloomUpload_.name(), cpuBloom(), 2);
     if (glare_)
         upload(glareUpload_.name(), cpuGlare_, kGlareScale);
     checkGlError("uploading the lens effects");
     composite(target, reached, bounds, bloomUpload_.name(), glareUpload_.name());
+}
+
+const RadianceRegion& LensEffects::cpuCoarser(int level) const
+{
+    return level + 2 == bloomLevels_ ? cpuLevels_[size_t(level + 1)] : cpuUp_[size_t(level + 1)];
+}
+
+const RadianceRegion& LensEffects::cpuBloom() const
+{
+    return bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0];
 }
 
 std::vector<PixelRect> LensEffects::reachedTiles(std::span<const PixelRect> candidates) const
@@ -675,8 +674,7 @@ std::vector<PixelRect> LensEffects::reachedTiles(std::span<const PixelRect> cand
     // the next level doubled (1 - w), each no more than its largest texel under the tile.
     const bool bloomOn = options_.bloom && bloomLevels_ > 0;
     const RadianceRegion* bright = bloomOn ? &cpuLevels_[0] : nullptr;
-    const RadianceRegion* coarser =
-        bloomOn && bloomLevels_ > 1 ? (bloomLevels_ == 2 ? &cpuLevels_[1] : &cpuUp_[1]) : nullptr;
+    const RadianceRegion* coarser = bloomOn && bloomLevels_ > 1 ? &cpuCoarser(0) : nullptr;
     const float brightWeight = bloomLevels_ > 1 ? 1.0f / float(bloomLevels_) : 1.0f;
     const RadianceRegion* glare = glare_ ? &cpuGlare_ : nullptr;
     const auto largest = [](const RadianceRegion* image, int scale, const PixelRect& pixels) {
@@ -745,27 +743,10 @@ void LensEffects::composite(const RenderTarget& target, std::span<const PixelRec
 
 ImageF LensEffects::read(const Level& level) const
 {
-    ImageF image(level.width, level.height, 3);
-    if (level.width == 0)
-        return image;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, level.framebuffer.name());
-    std::vector<float> rgba(size_t(level.width) * size_t(level.height) * 4);
-    if (rgbm_) {
-        std::vector<uint8_t> bytes(rgba.size());
-        glReadPixels(0, 0, level.width, level.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
-        // rgbm.glsl's decoding.
-        constexpr float kRgbmRange = 16.0f;
-        for (size_t i = 0; i < bytes.size(); i += 4)
-            for (size_t c = 0; c < 4; ++c)
-                rgba[i + c] = c < 3 ? bytes[i + c] / 255.0f * (bytes[i + 3] / 255.0f * kRgbmRange) : 1.0f;
-    } else {
-        glReadPixels(0, 0, level.width, level.height, GL_RGBA, GL_FLOAT, rgba.data());
-    }
-    checkGlError("reading a lens-effect image");
-    for (size_t i = 0; i < size_t(level.width) * size_t(level.height); ++i)
-        for (size_t c = 0; c < 3; ++c)
-            image.data[i * 3 + c] = rgba[i * 4 + c];
-    return image;
+    RadianceRegion region;
+    std::vector<uint8_t> bytes;
+    readLevel(level, {0, 0, level.width, level.height}, region, bytes);
+    return region.image();
 }
 
 ImageF LensEffects::readBright() const
@@ -780,7 +761,7 @@ ImageF LensEffects::readBloom() const
     if (!options_.bloom || levelSizes_.empty())
         return ImageF();
     if (culled_) {
-        const RadianceRegion& bloom = bloomLevels_ > 1 ? cpuUp_[0] : cpuLevels_[0];
+        const RadianceRegion& bloom = cpuBloom();
         return bloom.width() > 0 ? bloom.image() : ImageF(levelSizes_[0].x, levelSizes_[0].y, 3);
     }
     return read(bloomLevels_ > 1 ? up_[0] : down_[0]);

@@ -108,14 +108,20 @@ private:
     // Culled, readsRadiance_: the radiance under `sourceBounds` read back and halved (2 x 2
     // means) into cpuLevels_[0].
     void readRadianceHalved(const PixelRect& sourceBounds);
-    // Culled: down_[0]'s texels under `area` into cpuLevels_[0], linear.
-    void readBrightRegion(const PixelRect& area);
+    // A level's `texels` read back, linear (RGBM decoded), into `region` (reset over them);
+    // `bytes` holds what glReadPixels gives.
+    void readLevel(const Level& level, const PixelRect& texels, RadianceRegion& region,
+                   std::vector<uint8_t>& bytes) const;
     // Culled: the frame's tiles within reach of a texel of the bright image that holds light,
     // as disjoint rectangles within `area`.
     [[nodiscard]] std::vector<PixelRect> litTiles(const PixelRect& area) const;
     // Culled: the tiles of `candidates` (litTiles) where the bloom and the glare computed on
     // the CPU add light the composite keeps.
     [[nodiscard]] std::vector<PixelRect> reachedTiles(std::span<const PixelRect> candidates) const;
+    // Culled: what the bloom's level `level` (below its coarsest) is doubled from, the level
+    // above going down or, above that, coming up; and the bloom itself.
+    [[nodiscard]] const RadianceRegion& cpuCoarser(int level) const;
+    [[nodiscard]] const RadianceRegion& cpuBloom() const;
     // How far from a bright pixel the bloom and the glare reach, in pixels.
     [[nodiscard]] int reachPixels() const;
     [[nodiscard]] ImageF read(const Level& level) const;

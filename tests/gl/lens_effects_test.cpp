@@ -5,10 +5,12 @@
 // the whole frame and culled (the pyramid and the glare on the CPU near the bright light),
 // which gives the frame the whole-frame effects give.
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -59,6 +61,28 @@ Image8 codeRamp(int width, int height)
             for (int c = 0; c < 3; ++c)
                 ramp.at(x, y)[c] = uint8_t((x * 7 + y * 13 + c * 85) % 256);
     return ramp;
+}
+
+// Emissive cards (`halfSize` metres square, facing the camera, emitting `emission`) at
+// `positions` in the camera frame, under a uniform sky over `camera`, through a renderer made
+// with `options`; empty where no GLES 3 renderer can be made.
+Image8 renderEmissiveCards(const RenderOptions& options, const Image8& camera, const CameraIntrinsics& k,
+                           float emission, float halfSize, std::initializer_list<glm::vec3> positions)
+{
+    auto made = test::tryCreateRenderer(camera.width, camera.height, options);
+    Image8 out;
+    if (!made.renderer)
+        return out;
+    made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
+    const GltfModel card = test::cameraFacingRectangle(-halfSize, -halfSize, halfSize, halfSize,
+                                                       test::emissiveMaterial(glm::vec3(emission)));
+    const int model = made.renderer->addModel(card);
+    std::vector<DrawItem> items;
+    for (const glm::vec3& p : positions)
+        items.push_back({model, test::translation(p.x, p.y, p.z)});
+    made.renderer->render(camera, k, items);
+    made.renderer->readback(out);
+    return out;
 }
 
 // The images' formats: all RGBA16F; the radiance RGBA16F and the pyramid RGBM (a software
@@ -327,17 +351,7 @@ TEST(LensRenderer, AnEmissiveCardBloomsOnlyAboveTheThreshold)
         options.lens.glare = true;
         options.lens.bloomRadius = 16.0f;
         options.lens.glareLength = 24.0f;
-        auto made = test::tryCreateRenderer(kW, kH, options);
-        Image8 out;
-        if (!made.renderer)
-            return out;
-        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
-        const GltfModel card =
-            test::cameraFacingRectangle(-0.05f, -0.05f, 0.05f, 0.05f, test::emissiveMaterial(glm::vec3(emission)));
-        const DrawItem item{made.renderer->addModel(card), test::translation(0, 0, 1)};
-        made.renderer->render(grey, k, {&item, 1});
-        made.renderer->readback(out);
-        return out;
+        return renderEmissiveCards(options, grey, k, emission, 0.05f, {{0, 0, 1}});
     };
     for (const int samples : {1, 4}) {
         SCOPED_TRACE("samples " + std::to_string(samples));
@@ -381,17 +395,7 @@ TEST(LensRenderer, NoCameraCodeDarkensUnderTheBloomsTail)
         options.lens.glare = true;
         options.lens.bloomRadius = 16.0f;
         options.lens.glareLength = 24.0f;
-        auto made = test::tryCreateRenderer(kW, kH, options);
-        Image8 out;
-        if (!made.renderer)
-            return out;
-        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
-        const GltfModel card =
-            test::cameraFacingRectangle(-0.05f, -0.05f, 0.05f, 0.05f, test::emissiveMaterial(glm::vec3(8.0f)));
-        const DrawItem item{made.renderer->addModel(card), test::translation(0, 0, 1)};
-        made.renderer->render(ramp, k, {&item, 1});
-        made.renderer->readback(out);
-        return out;
+        return renderEmissiveCards(options, ramp, k, 8.0f, 0.05f, {{0, 0, 1}});
     };
     for (const bool rgbm : {false, true}) {
         SCOPED_TRACE(rgbm ? "rgbm" : "float");
@@ -432,20 +436,8 @@ TEST(LensRenderer, CulledEffectsGiveTheWholeFramesImage)
         options.lens.glareAngle = 15.0f;
         options.lens.bloomRadius = 16.0f;
         options.lens.glareLength = 24.0f;
-        auto made = test::tryCreateRenderer(kW, kH, options);
-        Image8 out;
-        if (!made.renderer)
-            return out;
-        made.renderer->setEnvironment(test::uniformEnvironment(0.2f), 1.0f);
-        const GltfModel card =
-            test::cameraFacingRectangle(-0.02f, -0.02f, 0.02f, 0.02f, test::emissiveMaterial(glm::vec3(8.0f)));
-        const int model = made.renderer->addModel(card);
-        const DrawItem items[] = {{model, test::translation(-0.5f, -0.3f, 1)},
-                                  {model, test::translation(0.3f, 0.2f, 1)},
-                                  {model, test::translation(0.97f, -0.1f, 1)}};
-        made.renderer->render(ramp, k, items);
-        made.renderer->readback(out);
-        return out;
+        return renderEmissiveCards(options, ramp, k, 8.0f, 0.02f,
+                                   {{-0.5f, -0.3f, 1}, {0.3f, 0.2f, 1}, {0.97f, -0.1f, 1}});
     };
     for (const int samples : {1, 4}) {
         SCOPED_TRACE("samples " + std::to_string(samples));
