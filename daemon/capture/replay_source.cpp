@@ -1,6 +1,9 @@
 #include "capture/replay_source.h"
 
+#include <algorithm>
+#include <iterator>
 #include <string>
+#include <utility>
 
 #include "core/error.h"
 #include "core/monotonic_clock.h"
@@ -26,6 +29,8 @@ ReplaySource::ReplaySource(std::unique_ptr<CaptureSource> source, int frames)
     }
     if (frames_.empty())
         throw InputError("replay: the camera source ended before its first frame");
+    for (const Frame& f : frames_)
+        bytesHeld_ += f.rgb.data.size() + f.luma.data.size() + f.ycbcr.plane0.size() + f.ycbcr.plane1.size();
     source.reset(); // its own buffers (the fake camera's table and cube) are not needed any more
 }
 
@@ -39,13 +44,32 @@ int ReplaySource::heldIndex(uint64_t sequence) const
     return int(phase < held ? phase : period - phase);
 }
 
+namespace {
+
+void swapImages(Frame& a, Frame& b)
+{
+    std::swap(a.rgb, b.rgb);
+    std::swap(a.luma, b.luma);
+    std::swap(a.ycbcr, b.ycbcr);
+}
+
+} // namespace
+
 bool ReplaySource::next(Frame& frame)
 {
-    const Frame& held = frames_[size_t(heldIndex(nextSequence_))];
-    // Copy assignment reuses the frame's buffers: no allocation once they have their size.
-    frame.rgb = held.rgb;
-    frame.luma = held.luma;
-    frame.ycbcr = held.ycbcr;
+    if (lent_ >= 0) {
+        // Vectors keep their storage when swapped: the lent images are where they were lent.
+        const void* held[3] = {frame.rgb.data.data(), frame.luma.data.data(), frame.ycbcr.plane0.data()};
+        if (!std::equal(std::begin(held), std::end(held), std::begin(lentImages_)))
+            throw RuntimeError("replay: held frame " + std::to_string(lent_) +
+                               " did not come back with the next call (the frames are lent, not copied)");
+        swapImages(frame, frames_[size_t(lent_)]);
+    }
+    lent_ = heldIndex(nextSequence_);
+    swapImages(frame, frames_[size_t(lent_)]);
+    lentImages_[0] = frame.rgb.data.data();
+    lentImages_[1] = frame.luma.data.data();
+    lentImages_[2] = frame.ycbcr.plane0.data();
     frame.sequence = nextSequence_;
     frame.timestampNs = int64_t(double(nextSequence_) * 1e9 / fps_ + 0.5);
     frame.capturedNs = monotonicClockNs();
@@ -55,11 +79,7 @@ bool ReplaySource::next(Frame& frame)
 
 size_t ReplaySource::bytesHeld() const
 {
-    size_t bytes = 0;
-    for (const Frame& f : frames_) {
-        bytes += f.rgb.data.size() + f.luma.data.size() + f.ycbcr.plane0.size() + f.ycbcr.plane1.size();
-    }
-    return bytes;
+    return bytesHeld_;
 }
 
 const std::vector<TagGroundTruth>& ReplaySource::groundTruth(uint64_t sequence) const

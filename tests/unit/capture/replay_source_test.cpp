@@ -71,6 +71,32 @@ TEST(ReplaySource, AShortSourceGivesWhatItHasAndOneFrameRepeats)
     }
 }
 
+TEST(ReplaySource, FramesAreLentNotCopied)
+{
+    ReplaySource replay(std::make_unique<CountingSource>(100), 3);
+    Frame f;
+    std::vector<const uint8_t*> served; // the rgb storage served as each held frame
+    for (uint64_t k = 0; k < 9; ++k) {
+        ASSERT_TRUE(replay.next(f));
+        const size_t held = size_t(replay.heldIndex(k));
+        if (served.size() <= held)
+            served.resize(held + 1, nullptr);
+        if (served[held] == nullptr)
+            served[held] = f.rgb.data.data();
+        EXPECT_EQ(f.rgb.data.data(), served[held]) << "frame " << k << " was copied";
+        EXPECT_EQ(f.rgb.data[0], held) << "frame " << k;
+    }
+    EXPECT_EQ(replay.bytesHeld(), 3u * (24 + 8)) << "counted while one is lent";
+}
+
+TEST(ReplaySource, AFrameNotGivenBackIsARuntimeError)
+{
+    ReplaySource replay(std::make_unique<CountingSource>(100), 3);
+    Frame first, other;
+    ASSERT_TRUE(replay.next(first));
+    EXPECT_THROW(replay.next(other), RuntimeError);
+}
+
 TEST(ReplaySource, NoFrameIsBadInput)
 {
     EXPECT_THROW(ReplaySource(std::make_unique<CountingSource>(0), 4), InputError);
