@@ -13,8 +13,10 @@ namespace lumar {
 class EnvironmentLighting {
 public:
     // Starts as a uniform environment of radiance 1 (a "white furnace"), so a renderer
-    // that was never given a map still shows its models.
-    EnvironmentLighting();
+    // that was never given a map still shows its models. `faceSize`: the cube faces the
+    // equirect is drawn into (texels a side), each sampling it at the level whose texels match
+    // theirs (4 x faceSize round the equator); finer levels are not kept (0: every level).
+    explicit EnvironmentLighting(int faceSize = 0);
 
     // `equirect`: linear radiance, 3 channels (environment_map.h's direction convention);
     // `intensity` scales it. Throws InputError for an empty or malformed image or an
@@ -26,11 +28,13 @@ public:
 
     [[nodiscard]] const glm::dmat3& environmentFromCamera() const { return environmentFromCamera_; }
     [[nodiscard]] GLuint equirect() const { return equirect_.name(); }
+    // The texture's level 0, which may be a level of the image set() was given.
     [[nodiscard]] int equirectWidth() const { return equirectWidth_; }
     // Counts set() calls: maps built from an older environment are stale.
     [[nodiscard]] int generation() const { return generation_; }
 
 private:
+    int faceSize_;
     GlTexture equirect_;
     int equirectWidth_ = 0;
     int generation_ = 0;

@@ -66,8 +66,8 @@ public:
         : context_(makeContext(options.display)), width_(width), height_(height),
           target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
                                                              makeSolidTexture(128, 128, 255, 255)},
-          readback_(target_.readFramebuffer(), width, height), probes_(options.environmentMaps),
-          shadows_(options.shadows),
+          environment_(options.environmentMaps.ibl.mirrorSize), readback_(target_.readFramebuffer(), width, height),
+          probes_(options.environmentMaps), shadows_(options.shadows),
           cameraPhantoms_(options.environmentMaps.dynamic && options.environmentMaps.phantomsShowCamera),
           mirrorSize_(options.environmentMaps.ibl.mirrorSize), materialTextureLimit_(options.materialTextureLimit),
           profile_(options.profile)

@@ -261,3 +261,37 @@ TEST(IblMaps, TheSameProjectionReadsALatLongMap)
 
 } // namespace
 } // namespace lumar
+
+namespace lumar {
+namespace {
+
+// EnvironmentLighting keeps only the levels the faces read: the mirror map drawn from the
+// 1k .hdr into 64-texel faces (lod 2) is the same, texel for texel, from the kept levels.
+TEST(IblMaps, TheEquirectKeepsOnlyTheLevelsTheFacesRead)
+{
+    LUMAR_CONTEXT_OR_SKIP(context);
+    const std::filesystem::path hdr = std::filesystem::path(LUMAR_SHARED_DATA_DIR) / "env/venice_sunset_1k.hdr";
+    const ImageF sky = std::filesystem::exists(hdr) ? loadHdrImage(hdr) : equirectOf(1024, 512, lobedSky);
+    IblSettings settings;
+    settings.mirrorSize = 64;
+    const IblPipeline pipeline(settings);
+    EnvironmentLighting every, kept(settings.mirrorSize);
+    every.set(sky, 1.0f);
+    kept.set(sky, 1.0f);
+    EXPECT_EQ(every.equirectWidth(), sky.width);
+    EXPECT_EQ(kept.equirectWidth(), 4 * settings.mirrorSize) << "1024 -> 256: levels 0 and 1 dropped";
+    const auto mirrorFrom = [&](const EnvironmentLighting& environment) {
+        IblMaps maps = pipeline.createMaps();
+        pipeline.renderMirror(maps, nullptr, [&](int face) {
+            pipeline.drawSkybox(face, environment.equirect(), environment.equirectWidth(), 1.0f);
+        });
+        return pipeline.rgbm() ? test::readCubeAtlasRgbm(maps.mirror.name(), settings.mirrorSize)
+                               : test::readCubeAtlas(maps.mirror.name(), settings.mirrorSize);
+    };
+    const CubeMapF a = mirrorFrom(every), b = mirrorFrom(kept);
+    for (int face = 0; face < 6; ++face)
+        EXPECT_EQ(a.faces[size_t(face)].data, b.faces[size_t(face)].data) << "face " << face;
+}
+
+} // namespace
+} // namespace lumar
