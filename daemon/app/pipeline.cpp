@@ -311,7 +311,34 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
         }
     } releaseWhenLoaded;
     tracked_ = TrackedPoses(config_.tracking);
-    std::unique_ptr<CaptureSource> source = openCaptureSource(withConversionDecided(config_.camera, config_));
+    const CameraConfig camera = withConversionDecided(config_.camera, config_);
+    // Load every file before creating the GL context, so bad input is reported as such even
+    // on a machine without EGL.
+    std::vector<GltfModel> models = loadObjectModels(config_);
+    environmentWritten_ = environmentWritten(config_.environment);
+    ImageF environment = loadEnvironment(config_.environment);
+    // The resident set peaks while the renderer compiles its programs, on top of the loaded
+    // files: the loaders' code (glTF, Draco, HDR, PNG decoding, ~17 MB) leaves it first
+    // (issue 18: car.toml --replay, peak 145 -> 134 MB while the renderer is made).
+    (void)dropCleanFilePages();
+    // The first frame compiles the programs' variants (on llvmpipe the compiler's code, ~34 MB
+    // of libLLVM, is resident while it runs). Drawn before the camera opens, with the loaded
+    // files freed, it does not add to what they and the camera hold (the fake camera's lit
+    // table and frames, a replay's frames): where the source's size is known before it opens,
+    // the renderer is made, its first frame drawn from a made-up view and forgotten, and the
+    // compilers' code dropped (issue 18, car.toml with bloom, 2 + 3 interleaved runs: peak
+    // 157.6-158.1 -> 132.8-134.3 MiB live, 140.6 -> 122.8 MiB replayed).
+    bool loaded = true;
+    if (camera.source == "fake") {
+        makeSceneRenderer(camera.width, camera.height, models, environment);
+        models = {};
+        environment = {};
+        loaded = false;
+        releaseLoadingMemory();
+        warmUp(intrinsicsFor(config_.camera, camera.width, camera.height));
+        releaseLoadingMemory();
+    }
+    std::unique_ptr<CaptureSource> source = openCaptureSource(camera);
     // Frames served from memory take a copy (about 1 ms at 720p): not worth a thread, and
     // served just when asked for they carry no wait in a hand-over slot into the latency.
     if (replayFrames > 0)
@@ -327,18 +354,19 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
     }
     intrinsics_ = intrinsicsFor(config_.camera, capture_->width(), capture_->height());
     tracker_ = makeTracker(config_, intrinsics_);
+    if (!renderer_ || renderer_->width() != capture_->width() || renderer_->height() != capture_->height()) {
+        if (!loaded) { // the source's frames are not the size it was configured for
+            models = loadObjectModels(config_);
+            environment = loadEnvironment(config_.environment);
+        }
+        makeSceneRenderer(capture_->width(), capture_->height(), models, environment);
+    }
+}
 
-    // Load every file before creating the GL context, so bad input is reported as such even
-    // on a machine without EGL.
-    const std::vector<GltfModel> models = loadObjectModels(config_);
-    environmentWritten_ = environmentWritten(config_.environment);
-    const ImageF environment = loadEnvironment(config_.environment);
-
-    // The resident set peaks while the renderer compiles its programs, on top of the loaded
-    // files: the loaders' code (glTF, Draco, HDR, PNG decoding, ~17 MB) leaves it first
-    // (issue 18: car.toml --replay, peak 145 -> 134 MB while the renderer is made).
-    (void)dropCleanFilePages();
-    renderer_ = makeRenderer(config_, capture_->width(), capture_->height(), profile_, window_);
+void Pipeline::makeSceneRenderer(int width, int height, const std::vector<GltfModel>& models, const ImageF& environment)
+{
+    renderer_.reset(); // one GL context at a time
+    renderer_ = makeRenderer(config_, width, height, profile_, window_);
     // Creating the renderer compiled its programs: the compiler's code (libLLVM on llvmpipe,
     // ~56 MB) need not stay resident while the models upload; the first frame's shader
     // variants fault back what they run (issue 18: car.toml's peak 175 -> 142 MB).
@@ -349,6 +377,32 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
     applyLight();
     renderer_->setEnvironmentSource(environmentSourceFor(config_.environment));
     placeScene(models);
+}
+
+void Pipeline::warmUp(const CameraIntrinsics& intrinsics)
+{
+    // Every marker and map 0.5 m ahead, its normal tilted 45 degrees towards the camera
+    // (above the view's centre): the objects, their shadows and the phantoms in view.
+    constexpr double kTilt = 0.7853981633974483;
+    Pose view;
+    view.R = glm::dmat3(glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(0.0, -std::cos(kTilt), std::sin(kTilt)),
+                        glm::dvec3(0.0, -std::sin(kTilt), -std::cos(kTilt)));
+    view.t = glm::dvec3(0.0, 0.0, 0.5);
+    const glm::dmat4 cameraFromMarker = view.matrix();
+    drawItems_.clear();
+    for (size_t i = 0; i < objects_.size(); ++i)
+        drawItems_.push_back({objects_[i].model, cameraFromMarker * objects_[i].markerFromModel, int(i)});
+    for (const PlacedObject& phantom : phantoms_)
+        drawItems_.push_back({phantom.model, cameraFromMarker * phantom.markerFromModel, -1, true});
+    for (const PlacedObject& ground : grounds_)
+        drawItems_.push_back({ground.model, cameraFromMarker * ground.markerFromModel, -1, true, true});
+    renderer_->setEnvironmentRotation(environmentFromMarker() * glm::transpose(view.R));
+    Image8 grey(renderer_->width(), renderer_->height(), 3);
+    std::fill(grey.data.begin(), grey.data.end(), uint8_t(128));
+    renderer_->render(grey, intrinsics, drawItems_);
+    renderer_->readback(grey);
+    renderer_->forgetFrames();
+    drawItems_.clear();
 }
 
 bool Pipeline::capturePacesItself() const

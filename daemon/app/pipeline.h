@@ -156,6 +156,10 @@ private:
     // Adds the configured objects (`models` in config_.objects' order) and phantoms to the
     // renderer, which holds no models yet.
     void placeScene(const std::vector<GltfModel>& models);
+    // Makes the renderer for frames of width x height and gives it the scene.
+    void makeSceneRenderer(int width, int height, const std::vector<GltfModel>& models, const ImageF& environment);
+    // Draws the scene once from a made-up view and forgets it (see the constructor).
+    void warmUp(const CameraIntrinsics& intrinsics);
     // Gives the renderer the dominant light: the first configured [[lights]] entry that casts
     // shadows, else the one derived from the environment map (derivedLight_).
     void applyLight();

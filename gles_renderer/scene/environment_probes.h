@@ -69,6 +69,13 @@ public:
         for (Bank& bank : banks_)
             bank.objects.assign(bank.objects.size(), -1);
     }
+    // As if no frame had been drawn: clear(), and the update schedules start again.
+    void forgetFrames()
+    {
+        clear();
+        frame_ = 0;
+        roundRobin_ = 0;
+    }
     // Objects per bank (fewer where the mirror maps are large: a bank stays within 2048 px).
     static constexpr int kBankSlots = 4;
 

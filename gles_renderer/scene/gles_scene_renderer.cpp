@@ -130,6 +130,17 @@ public:
         models_.clear();
     }
 
+    void forgetFrames() override
+    {
+        context_.makeCurrent();
+        probes_.forgetFrames();
+        shadows_.invalidate();
+        if (cameraEnvironment_)
+            cameraEnvironment_->reset();
+        captureFrame_ = 0;
+        orientationTracked_ = false;
+    }
+
     void setEnvironment(const ImageF& equirect, float intensity) override
     {
         context_.makeCurrent();

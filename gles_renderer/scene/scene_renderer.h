@@ -190,6 +190,10 @@ public:
     // animation.
     virtual void poseModel(ModelId model, std::span<const ClipTime> clips) = 0;
     virtual void removeModels() = 0;
+    // Forgets what frames drawn so far leave to the next ones (the objects' environment maps,
+    // the shadow map, the environment built from the camera), as if none had been drawn: after
+    // a frame drawn only to compile the programs' variants before the camera starts.
+    virtual void forgetFrames() = 0;
     // `equirect` is linear HDR radiance; `intensity` scales it.
     virtual void setEnvironment(const ImageF& equirect, float intensity) = 0;
     // Rotation from the OpenCV camera frame to the environment map's frame (+Y up), so the

@@ -473,3 +473,44 @@ TEST(EnvironmentProbes, PhantomLayerIsReusedUntilThePhantomMoves)
 
 } // namespace
 } // namespace lumar
+
+namespace lumar {
+namespace {
+
+// SceneRenderer::forgetFrames(), which the pipeline calls after drawing a frame only to
+// compile its programs: the frames after it are those of a renderer that drew none, maps
+// (staggered every other frame here, so a map kept from before would show) and all.
+TEST(EnvironmentProbes, AfterForgetFramesTheFramesAreAFreshRenderers)
+{
+    try {
+        RenderOptions options;
+        options.environmentMaps.policy = EnvironmentMapPolicy::EveryKFrames;
+        options.environmentMaps.everyK = 2;
+        auto used = SceneRenderer::create(kWidth, kHeight, options);
+        auto fresh = SceneRenderer::create(kWidth, kHeight, options);
+        const Scene before = makeScene(*used);
+        const Scene after = makeScene(*fresh);
+        // Elsewhere first: the lamp on the sphere's other side, both further away.
+        Scene elsewhere = before;
+        elsewhere.items[0].cameraFromModel = placed(0.06, 0.02, 0.6, 0.1);
+        elsewhere.items[1].cameraFromModel = placed(-0.07, 0.0, 0.6, 0.08);
+        const Image8 black = test::solidImage(kWidth, kHeight, 0, 0, 0);
+        for (int i = 0; i < 3; ++i)
+            used->render(black, intrinsics(), elsewhere.items);
+        used->forgetFrames();
+        for (int i = 0; i < 3; ++i) {
+            Image8 a, b;
+            used->render(black, intrinsics(), before.items);
+            used->readback(a);
+            fresh->render(black, intrinsics(), after.items);
+            fresh->readback(b);
+            EXPECT_EQ(used->lastStats().mapsUpdated, fresh->lastStats().mapsUpdated) << "frame " << i;
+            EXPECT_EQ(a.data, b.data) << "frame " << i;
+        }
+    } catch (const RuntimeError& e) {
+        GTEST_SKIP() << "no GLES 3 renderer: " << e.what();
+    }
+}
+
+} // namespace
+} // namespace lumar
