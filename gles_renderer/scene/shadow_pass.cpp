@@ -563,6 +563,18 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
     if (part) {
         glEnable(GL_SCISSOR_TEST);
         glScissor(part->x0, part->y0, part->x1 - part->x0, part->y1 - part->y0);
+    } else if (!partClearCompiled_) {
+        // A part is cleared through the scissor, which Mesa draws as a quad with a shader of
+        // its own: cleared once with the first whole map (a texel, cleared again below), that
+        // shader is compiled with the first frame's, not at the first frame that redraws a
+        // part, when the compiler's code (libLLVM on llvmpipe, ~30 MB) would come back into a
+        // full resident set (issue 18, car.toml with bloom, live: peak 132.8-135.8 -> 127.0-127.2
+        // MiB; cleared when the pass is made, the compile peaked with the renderer's, 136 MiB).
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(0, 0, 1, 1);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glDisable(GL_SCISSOR_TEST);
+        partClearCompiled_ = true;
     }
     glClear(GL_DEPTH_BUFFER_BIT);
     glEnable(GL_POLYGON_OFFSET_FILL);

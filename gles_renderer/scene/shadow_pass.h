@@ -197,6 +197,7 @@ private:
     };
     // Linked at first use (cutoutProgram), from the const drawCasters: a cache.
     mutable CutoutProgram cutoutPrograms_[2];
+    mutable bool partClearCompiled_ = false; // drawCasters' scissored clear has been drawn
     [[nodiscard]] const CutoutProgram& cutoutProgram(bool textured) const;
     // phantom_receiver.frag: [1] with the shadow map's lookups, for the tiles a prism
     // reaches; [0] without them (RECEIVER_SHADOW 0), for those only occluders reach, where
