@@ -339,8 +339,8 @@ Pipeline::Pipeline(const Config& config, bool profile, WindowTarget* window, int
         releaseLoadingMemory();
     }
     std::unique_ptr<CaptureSource> source = openCaptureSource(camera);
-    // Frames served from memory take a copy (about 1 ms at 720p): not worth a thread, and
-    // served just when asked for they carry no wait in a hand-over slot into the latency.
+    // Frames served from memory are lent, not copied (replay_source.h): not worth a thread,
+    // and served just when asked for they carry no wait in a hand-over slot into the latency.
     if (replayFrames > 0)
         capture_ = std::make_unique<ReplaySource>(std::move(source), replayFrames);
     else {

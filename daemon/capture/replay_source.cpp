@@ -1,7 +1,6 @@
 #include "capture/replay_source.h"
 
-#include <algorithm>
-#include <iterator>
+#include <array>
 #include <string>
 #include <utility>
 
@@ -53,23 +52,26 @@ void swapImages(Frame& a, Frame& b)
     std::swap(a.ycbcr, b.ycbcr);
 }
 
+// Where a frame's images are: vectors keep their storage when swapped, so lent images are
+// found where they were lent.
+std::array<const void*, 3> imagesOf(const Frame& frame)
+{
+    return {frame.rgb.data.data(), frame.luma.data.data(), frame.ycbcr.plane0.data()};
+}
+
 } // namespace
 
 bool ReplaySource::next(Frame& frame)
 {
     if (lent_ >= 0) {
-        // Vectors keep their storage when swapped: the lent images are where they were lent.
-        const void* held[3] = {frame.rgb.data.data(), frame.luma.data.data(), frame.ycbcr.plane0.data()};
-        if (!std::equal(std::begin(held), std::end(held), std::begin(lentImages_)))
+        if (imagesOf(frame) != lentImages_)
             throw RuntimeError("replay: held frame " + std::to_string(lent_) +
                                " did not come back with the next call (the frames are lent, not copied)");
         swapImages(frame, frames_[size_t(lent_)]);
     }
     lent_ = heldIndex(nextSequence_);
     swapImages(frame, frames_[size_t(lent_)]);
-    lentImages_[0] = frame.rgb.data.data();
-    lentImages_[1] = frame.luma.data.data();
-    lentImages_[2] = frame.ycbcr.plane0.data();
+    lentImages_ = imagesOf(frame);
     frame.sequence = nextSequence_;
     frame.timestampNs = int64_t(double(nextSequence_) * 1e9 / fps_ + 0.5);
     frame.capturedNs = monotonicClockNs();

@@ -17,6 +17,7 @@
 // thread per 720p frame and 3.7 MB resident, neither of which a camera's frames cost.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -51,7 +52,7 @@ private:
     std::vector<Frame> frames_;
     // The held frame whose images the caller has, and where they are: -1 for none.
     int lent_ = -1;
-    const void* lentImages_[3] = {};
+    std::array<const void*, 3> lentImages_{};
     size_t bytesHeld_ = 0;
     std::vector<std::vector<TagGroundTruth>> groundTruth_; // per held frame; empty: not a fake camera
     int width_ = 0, height_ = 0;

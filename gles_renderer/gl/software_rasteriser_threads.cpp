@@ -21,7 +21,9 @@ int chooseSoftwareRasteriserThreads()
     // a core, and at the end of a pass, whose last tiles go one to a thread. The car scene
     // replayed on llvmpipe, 2 cores (issue 18, three interleaved rounds): 29.5/31.2/32.2 ->
     // 31.8/32.5/33.4 fps without bloom, 27.9/28.2/28.8 -> 28.7/29.7/30.3 with it; the live fake
-    // camera the same (23.8/24.2 against 23.6/23.5); peak resident memory the same.
+    // camera the same (23.8/24.2 against 23.6/23.5); peak resident memory the same. Later rounds
+    // with bloom tied (28.8/27.7/29.5 against 29.6/29.7/28.5), and under foreign load the third
+    // thread costs context switches (32.6k -> 52k per 200 frames): LP_NUM_THREADS overrides.
     const int threads = cores + 1;
     (void)setenv(kVariable, std::to_string(threads).c_str(), 0);
     return threads;
