@@ -8,9 +8,9 @@
 #include <apriltag/apriltag.h>
 
 #include "core/error.h"
+#include "core/helper_thread.h"
 #include "core/log.h"
 #include "tracking/followed_tags.h"
-#include "tracking/helper_thread.h"
 #include "tracking/scene_families.h"
 #include "tracking/tag_map.h"
 

@@ -68,7 +68,7 @@ BackgroundPass::BackgroundPass(const RenderTarget& target)
     checkGlError("creating the background pass");
 }
 
-void BackgroundPass::upload(GLuint texture, const Image8& rgb)
+void BackgroundPass::uploadInto(GLuint texture, const Image8& rgb)
 {
     strip_.resize(size_t(width_) * size_t(std::min(height_, kUploadRowsPerStrip)) * 4);
     glActiveTexture(GL_TEXTURE0 + kTextureUnit);
@@ -88,7 +88,7 @@ void BackgroundPass::upload(GLuint texture, const Image8& rgb)
     }
 }
 
-void BackgroundPass::draw(const Image8& rgb)
+void BackgroundPass::upload(const Image8& rgb)
 {
     releaseHeldBuffer();
     if (rgb.width != width_ || rgb.height != height_ || rgb.channels != 3 ||
@@ -100,11 +100,19 @@ void BackgroundPass::draw(const Image8& rgb)
     if (targetTexture_ != 0) {
         // Straight into the framebuffer's own texture: the copy is exact by construction and
         // costs no fragment work.
-        upload(targetTexture_, rgb);
+        uploadInto(targetTexture_, rgb);
         glBindTexture(GL_TEXTURE_2D, 0); // never leave the render target bound for sampling
         return;
     }
-    upload(texture_.name(), rgb);
+    uploadInto(texture_.name(), rgb);
+}
+
+void BackgroundPass::drawUploaded()
+{
+    if (targetTexture_ != 0)
+        return;
+    glActiveTexture(GL_TEXTURE0 + kTextureUnit);
+    glBindTexture(GL_TEXTURE_2D, texture_.name());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glUseProgram(program_.name());

@@ -33,7 +33,16 @@ public:
 
     // Puts `rgb` (3 channels, the target's size, row 0 at the top) into every pixel of the
     // target, which must be bound for drawing. Throws InputError when the shape differs.
-    void draw(const Image8& rgb);
+    void draw(const Image8& rgb)
+    {
+        upload(rgb);
+        drawUploaded();
+    }
+    // draw()'s two steps. upload() needs no target bound; where it writes the target's
+    // texture itself, drawUploaded() does nothing. A frame's renderer uploads before its
+    // first pass: writing a texture that passes queued on llvmpipe use waits for them all.
+    void upload(const Image8& rgb);
+    void drawUploaded();
     // The same from YCbCr planes (not const: the textures are created on first use and
     // recreated when the layout changes). Throws InputError for an empty image, a size other
     // than the target's, or planes smaller than their size and stride need.
@@ -52,7 +61,7 @@ public:
     [[nodiscard]] uint64_t importedFrames() const { return importedFrames_; }
 
 private:
-    void upload(GLuint texture, const Image8& rgb);
+    void uploadInto(GLuint texture, const Image8& rgb);
     void prepareYcbcr(YCbCrLayout layout);
     // Lets go of the camera buffer the last imported frame was drawn from, once the GPU is done.
     void releaseHeldBuffer();

@@ -6,9 +6,12 @@
 // one scaled blit and a mipmap build per frame instead of sampling the full frame.
 #pragma once
 
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "core/camera_model.h"
+#include "core/image.h"
 #include "gles_renderer/gl/gl_object.h"
 #include "gles_renderer/gl/render_target.h"
 
@@ -36,15 +39,31 @@ public:
     // changed.
     void capture(const RenderTarget& target);
 
+    // The same from the frame itself (3 channels, the frame's size, row 0 at the top), on the
+    // CPU: every level resampled as capture()'s linear blit and glGenerateMipmap do. On
+    // llvmpipe capture() costs a wait for the rasteriser per level (each samples the one just
+    // drawn), 9 a frame at 720p, which serialise the frame's start; this costs none, and
+    // reduce() touches no GL, so it can run on another thread while the frame is uploaded.
+    // Throws InputError when the frame's shape is not the one this image was made for.
+    void reduce(const Image8& rgb);
+    // Puts what reduce() computed into the texture (the context current). Best called before
+    // the frame's first pass: writing a texture an earlier pass read makes llvmpipe finish
+    // everything queued first.
+    void uploadReduced();
+
     [[nodiscard]] GLuint texture() const { return texture_.name(); }
     [[nodiscard]] int width() const { return width_; }
     [[nodiscard]] int height() const { return height_; }
 
 private:
+    int frameWidth_;
+    int frameHeight_;
     int width_;
     int height_;
+    int levelCount_;
     GlTexture texture_;
     GlFramebuffer framebuffer_;
+    std::vector<Image8> levels_; // reduce()'s, RGBA, [0] the finest
 };
 
 } // namespace lumar

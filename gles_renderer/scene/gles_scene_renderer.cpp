@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/helper_thread.h"
 #include "core/log.h"
 #include "gles_renderer/gl/cpu_present.h"
 #include "gles_renderer/gl/egl_context.h"
@@ -188,13 +189,13 @@ public:
     void render(const Image8& backgroundRgb, const CameraIntrinsics& intrinsics,
                 std::span<const DrawItem> items) override
     {
-        renderOver([&] { background_.draw(backgroundRgb); }, intrinsics, items);
+        renderOver(&backgroundRgb, intrinsics, items, [&] { background_.drawUploaded(); });
     }
 
     void render(const YCbCrImage& background, const CameraIntrinsics& intrinsics,
                 std::span<const DrawItem> items) override
     {
-        renderOver([&] { background_.draw(background); }, intrinsics, items);
+        renderOver(nullptr, intrinsics, items, [&] { background_.draw(background); });
     }
 
     void drawOverlay(const OverlayScene& overlay) override
@@ -263,9 +264,12 @@ public:
 
 private:
     // One frame: the environment maps, then `drawBackground` into the target, then the models.
+    // `frame`: the camera image in memory, uploaded here, and the maps' camera image reduced
+    // from it; drawBackground then draws what was uploaded. Null where drawBackground uploads
+    // the camera image itself.
     template <typename DrawBackground>
-    void renderOver(const DrawBackground& drawBackground, const CameraIntrinsics& intrinsics,
-                    std::span<const DrawItem> items)
+    void renderOver(const Image8* frame, const CameraIntrinsics& intrinsics, std::span<const DrawItem> items,
+                    const DrawBackground& drawBackground)
     {
         checkIntrinsics(intrinsics, width_, height_);
         for (const DrawItem& item : items)
@@ -283,10 +287,22 @@ private:
         target_.bindForDrawing();
         glDepthMask(GL_TRUE);
         glClear(GL_DEPTH_BUFFER_BIT);
+        // The camera image for the maps reduced from the frame in memory on the CPU, alongside
+        // its upload, instead of from the target after it (CameraImage::reduce).
+        const bool cameraFromFrame = frame != nullptr && needsCameraImage(items);
+        if (frame != nullptr) {
+            if (cameraFromFrame) {
+                helper_.runAlongside([&] { cameraImage_.reduce(*frame); }, [&] { background_.upload(*frame); });
+                cameraImage_.uploadReduced();
+            } else {
+                background_.upload(*frame);
+            }
+        }
         drawBackground();
         CameraView camera;
         if (needsCameraImage(items)) {
-            cameraImage_.capture(target_);
+            if (!cameraFromFrame)
+                cameraImage_.capture(target_);
             camera = {cameraImage_.texture(), frame_.clipFromCamera};
             camera.exposure = exposure_;
             if (cameraPhantoms_) {
@@ -412,6 +428,8 @@ private:
     StageTime animation_;     // poseModel() since the last frame
     RenderStats stats_;
     FrameUniforms frame_;
+    // Runs the camera image's reduction while this thread uploads the frame.
+    HelperThread helper_;
     std::unique_ptr<LensEffects> lens_;          // with RenderOptions::lens
     std::unique_ptr<OverlayPass> overlay_;       // made by the first drawOverlay()
     std::unique_ptr<CpuPresenter> cpuPresenter_; // made by the first present() from memory

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tracking/helper_thread.h"
+#include "core/helper_thread.h"
 #include "tracking/tracked_poses.h"
 
 namespace lumar {

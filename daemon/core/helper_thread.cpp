@@ -1,4 +1,4 @@
-#include "tracking/helper_thread.h"
+#include "core/helper_thread.h"
 
 namespace lumar {
 

@@ -1,7 +1,8 @@
-// One persistent helper thread that runs a job while the caller runs its own, for the
-// tracker's parallel window search (tracking/tag_tracker.cpp). Starting a std::thread per
-// frame would cost about as much as a small window's detection; this one waits on a
-// condition variable between frames.
+// One persistent helper thread that runs a job while the caller runs its own: the tracker's
+// parallel window search (tracking/tag_tracker.cpp) and the renderer's camera image, reduced
+// on the CPU while the frame is uploaded (gles_renderer/scene/camera_image.h). Starting a
+// std::thread per frame would cost about as much as a small window's detection; this one
+// waits on a condition variable between frames.
 #pragma once
 
 #include <condition_variable>
