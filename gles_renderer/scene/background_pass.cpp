@@ -10,6 +10,7 @@
 #include "gles_renderer/gl/fullscreen_triangle.h"
 #include "gles_renderer/gl/gl_check.h"
 #include "gles_renderer/gl/shader_program.h"
+#include "gles_renderer/scene/frame_shape.h"
 
 namespace lumar {
 
@@ -91,12 +92,7 @@ void BackgroundPass::uploadInto(GLuint texture, const Image8& rgb)
 void BackgroundPass::upload(const Image8& rgb)
 {
     releaseHeldBuffer();
-    if (rgb.width != width_ || rgb.height != height_ || rgb.channels != 3 ||
-        rgb.data.size() != size_t(width_) * size_t(height_) * 3) {
-        throw InputError("background image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + "x" +
-                         std::to_string(rgb.channels) + ", the renderer needs " + std::to_string(width_) + "x" +
-                         std::to_string(height_) + "x3");
-    }
+    checkRgbFrame(rgb, width_, height_, "background image");
     if (targetTexture_ != 0) {
         // Straight into the framebuffer's own texture: the copy is exact by construction and
         // costs no fragment work.

@@ -38,9 +38,9 @@ public:
         upload(rgb);
         drawUploaded();
     }
-    // draw()'s two steps. upload() needs no target bound; where it writes the target's
-    // texture itself, drawUploaded() does nothing. A frame's renderer uploads before its
-    // first pass: writing a texture that passes queued on llvmpipe use waits for them all.
+    // draw()'s two steps, so the renderer can reduce the maps' camera image from the same
+    // frame on another thread while upload() runs. upload() needs no target bound; where it
+    // writes the target's texture itself, drawUploaded() does nothing.
     void upload(const Image8& rgb);
     void drawUploaded();
     // The same from YCbCr planes (not const: the textures are created on first use and

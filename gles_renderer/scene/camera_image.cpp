@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <string>
 
 #include "core/error.h"
 #include "gles_renderer/gl/gl_check.h"
+#include "gles_renderer/scene/frame_shape.h"
 
 namespace lumar {
 
@@ -101,11 +101,7 @@ void CameraImage::capture(const RenderTarget& target)
 
 void CameraImage::reduce(const Image8& rgb)
 {
-    if (rgb.width != frameWidth_ || rgb.height != frameHeight_ || rgb.channels != 3 ||
-        rgb.data.size() != size_t(frameWidth_) * size_t(frameHeight_) * 3)
-        throw InputError("camera image is " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + "x" +
-                         std::to_string(rgb.channels) + ", the renderer needs " + std::to_string(frameWidth_) + "x" +
-                         std::to_string(frameHeight_) + "x3");
+    checkRgbFrame(rgb, frameWidth_, frameHeight_, "camera image");
     levels_.resize(size_t(levelCount_));
     for (int level = 0; level < levelCount_; ++level) {
         Image8& image = levels_[size_t(level)];

@@ -3,7 +3,8 @@
 // inside the environment maps (DESIGN.md §6.1), and the environment built from the camera
 // (§6.5). Both see it from afar (a 64-pixel cube face spans what hundreds of camera pixels
 // show), so a quarter-size copy with mipmaps shows the same thing without aliasing, and costs
-// one scaled blit and a mipmap build per frame instead of sampling the full frame.
+// a reduction per frame (on the CPU from a frame in memory, else a scaled blit and a mipmap
+// build) instead of sampling the full frame.
 #pragma once
 
 #include <vector>
@@ -46,9 +47,9 @@ public:
     // reduce() touches no GL, so it can run on another thread while the frame is uploaded.
     // Throws InputError when the frame's shape is not the one this image was made for.
     void reduce(const Image8& rgb);
-    // Puts what reduce() computed into the texture (the context current). Best called before
-    // the frame's first pass: writing a texture an earlier pass read makes llvmpipe finish
-    // everything queued first.
+    // Puts what reduce() computed into the texture (the context current). Best called right
+    // after something that waited for the rasteriser (the renderer: the frame's upload):
+    // writing a texture an earlier pass read makes llvmpipe finish everything queued first.
     void uploadReduced();
 
     [[nodiscard]] GLuint texture() const { return texture_.name(); }
