@@ -120,8 +120,9 @@ int benchCommand(const BenchCommandOptions& options)
                                                               {"post", &RenderStats::post},
                                                               {"animation", &RenderStats::animation}};
     std::vector<std::vector<double>> stageWallMs(std::size(stageFields)), stageCpuMs(std::size(stageFields));
-    std::vector<double> mapsUpdated, shadowMapDrawn;
-    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated, &shadowMapDrawn})
+    std::vector<double> mapsUpdated, shProjected, mapsPrefiltered, shadowMapDrawn;
+    for (auto* v : {&frameMs, &captureMs, &detectMs, &renderMs, &readbackMs, &latencyMs, &mapsUpdated, &shProjected,
+                    &mapsPrefiltered, &shadowMapDrawn})
         v->reserve(size_t(frames));
     long measured = 0;
     const double cpuStart = processCpuMs();
@@ -143,6 +144,8 @@ int benchCommand(const BenchCommandOptions& options)
             stageCpuMs[s].push_back((stats.*stageFields[s].second).cpuMs);
         }
         mapsUpdated.push_back(stats.mapsUpdated);
+        shProjected.push_back(stats.shProjected);
+        mapsPrefiltered.push_back(stats.mapsPrefiltered);
         shadowMapDrawn.push_back(stats.shadowMapDrawn);
         ++measured;
     }
@@ -195,6 +198,10 @@ int benchCommand(const BenchCommandOptions& options)
             {"stages_cpu_ms", profile ? std::move(stagesCpu) : Json(nullptr)},
             {"cpu_ms_per_frame", jsonDecimals(cpuPerFrame, 2)},
             {"env_maps_per_frame", jsonDecimals(mean(mapsUpdated), 2)},
+            // Of those, the sets whose diffuse (SH) and glossy maps were rebuilt: only where
+            // the object's materials read them (a chrome object reads its mirror map alone).
+            {"env_maps_sh_per_frame", jsonDecimals(mean(shProjected), 2)},
+            {"env_maps_prefiltered_per_frame", jsonDecimals(mean(mapsPrefiltered), 2)},
             // The share of the shadow map drawn per frame (0: kept from the frame before).
             {"shadow_map_drawn_per_frame", jsonDecimals(mean(shadowMapDrawn), 3)},
             {"profiled", profile},
@@ -230,8 +237,9 @@ int benchCommand(const BenchCommandOptions& options)
         std::printf("  CPU time %.1f ms per frame, all threads (at most %.1f fps on %u cores)\n", cpuPerFrame,
                     cpuPerFrame > 0 ? 1000.0 * cores / cpuPerFrame : 0.0, cores);
         if (profile) {
-            std::printf("  render, split (%.2f environment maps updated per frame; cpu: rendering threads):\n",
-                        mean(mapsUpdated));
+            std::printf("  render, split (%.2f environment maps updated per frame, %.2f with SH, %.2f prefiltered; "
+                        "cpu: rendering threads):\n",
+                        mean(mapsUpdated), mean(shProjected), mean(mapsPrefiltered));
             std::printf("    %-19s %6s %8s %8s %8s\n", "stage", "mean", "p50", "p99", "cpu");
             for (size_t s = 0; s < std::size(stageFields); ++s)
                 std::printf("    %-19s %6.2f %8.2f %8.2f %8.2f\n", stageFields[s].first, mean(stageWallMs[s]),

@@ -382,13 +382,29 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
     }
     pipeline_.renderMirrorSlots(bank.maps, mirrorSlots_);
     timer.split(stats.environmentMaps);
-    pipeline_.projectSHSlots(bank.maps, updatedSlots_);
+    // The derived maps only of the slots whose objects read them (EnvironmentMapReads).
+    shSlots_.clear();
+    glossySlots_.clear();
+    for (const int k : updatedSlots_) {
+        const int object = bank.objects[size_t(k)];
+        const auto probe = std::find_if(probesThisPass_.begin(), probesThisPass_.end(),
+                                        [&](const Probe& p) { return items[p.owner].object == object; });
+        const EnvironmentMapReads reads = environmentMapReads(models[size_t(items[probe->owner].model)]);
+        builtReads_[object] = reads;
+        if (reads.diffuse)
+            shSlots_.push_back(k);
+        if (reads.glossy1 || reads.glossy2)
+            glossySlots_.push_back(k);
+    }
+    pipeline_.projectSHSlots(bank.maps, shSlots_);
     timer.split(stats.sh);
-    pipeline_.prefilterSlots(bank.maps, updatedSlots_);
+    pipeline_.prefilterSlots(bank.maps, glossySlots_);
     timer.split(stats.prefilter);
     pointViews(bank.maps.mirror.name());
     for (const int k : updatedSlots_)
         probes_[bank.objects[size_t(k)]].ready = true;
+    stats.shProjected += int(shSlots_.size());
+    stats.mapsPrefiltered += int(glossySlots_.size());
     stats.mapsUpdated += int(updatedSlots_.size());
 }
 
@@ -400,6 +416,18 @@ EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const D
     if (environment.generation() != environmentGeneration_)
         rebuildEnvironmentMaps(environment);
 
+    // An object whose materials now read maps its set was not built with (a material edited
+    // from chrome to paint) shows the real environment's maps until its own are rebuilt with
+    // them, as a new object does: never maps that were never drawn.
+    for (const DrawItem& item : items) {
+        if (item.object < 0 || item.phantom)
+            continue;
+        const auto probe = probes_.find(item.object);
+        if (probe == probes_.end() || !probe->second.ready)
+            continue;
+        if (!builtReads_[item.object].covers(environmentMapReads(models[size_t(item.model)])))
+            probe->second.ready = false;
+    }
     maps_.resize(items.size());
     for (size_t i = 0; i < items.size(); ++i) {
         const IblMaps* own =

@@ -64,6 +64,7 @@ public:
     void clear()
     {
         probes_.clear();
+        builtReads_.clear();
         history_.clear();
         phantomLayers_.clear();
         for (Bank& bank : banks_)
@@ -128,6 +129,8 @@ private:
     // Per object: a view of its slot (IblMaps::view). By DrawItem::object; node-based:
     // pointers stay valid.
     std::map<int, IblMaps> probes_;
+    // Per object: which of its derived maps its set holds (the last update's reads).
+    std::map<int, EnvironmentMapReads> builtReads_;
     // OnChange: what each object's map last saw, and the updates still owed to the bounces.
     struct History {
         std::vector<glm::dmat4> scene;
@@ -166,6 +169,8 @@ private:
     std::vector<Probe> probesThisPass_;
     std::vector<IblPipeline::MirrorSlot> mirrorSlots_;
     std::vector<int> updatedSlots_;
+    std::vector<int> shSlots_;     // of updatedSlots_: the objects that read the diffuse map
+    std::vector<int> glossySlots_; // ... a glossy map
     std::vector<size_t> bankUpdates_;
     std::vector<DrawItem> faceItems_;
     std::vector<const IblMaps*> faceMaps_;

@@ -387,6 +387,24 @@ void replaceVertices(const GpuPrimitive& primitive, std::span<const std::byte> i
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+EnvironmentMapReads environmentMapReads(const GpuModel& model)
+{
+    EnvironmentMapReads reads;
+    // The materials the primitives use (a model may carry others: a built-in shape's default
+    // under its preset); the stand-ins use the same ones.
+    for (const GpuPrimitive& primitive : model.primitives) {
+        const GpuMaterial& material = model.materials[primitive.material];
+        if ((material.features & mesh_feature::kUnlit) != 0)
+            continue;
+        const uint32_t floor =
+            material.features & (mesh_feature::kGlossQuarter | mesh_feature::kGlossHalf | mesh_feature::kGlossMirror);
+        reads.diffuse = reads.diffuse || (material.features & mesh_feature::kDiffuse) != 0 || floor == 0;
+        reads.glossy1 = reads.glossy1 || floor == 0 || floor == mesh_feature::kGlossQuarter;
+        reads.glossy2 = reads.glossy2 || floor != mesh_feature::kGlossMirror;
+    }
+    return reads;
+}
+
 std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform)
 {
     std::array<glm::dvec3, 8> corners;

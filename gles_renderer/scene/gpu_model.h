@@ -106,6 +106,25 @@ inline constexpr double kProxyMaxCellPixels = 1.0;
 // most kProxyMaxCellPixels, else the finest.
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels);
 
+// Which of an object's own environment maps its shading can read (mesh.frag, in the frame and
+// in other objects' cube faces alike): the mirror map always; the diffuse map where a
+// material has a diffuse term (HAS_DIFFUSE) or a glossiness floor below 1/4; glossy-1 below
+// 1/2; glossy-2 below 1 (GLOSS_FLOOR, glossFeatures: the Fresnel factor only raises the
+// glossiness, so the maps below a material's floor weigh 0 and its variant leaves them out).
+// Unlit materials read none. A chrome object reads its mirror map alone: the SH projection,
+// the diffuse map and both glossy prefilters of its set are work nothing looks at.
+struct EnvironmentMapReads {
+    bool diffuse = false; // and the SH projection it is made from
+    bool glossy1 = false; // cascaded from glossy-2: needs it too
+    bool glossy2 = false;
+
+    [[nodiscard]] bool covers(const EnvironmentMapReads& other) const
+    {
+        return (diffuse || !other.diffuse) && (glossy1 || !other.glossy1) && (glossy2 || !other.glossy2);
+    }
+};
+[[nodiscard]] EnvironmentMapReads environmentMapReads(const GpuModel& model);
+
 // The eight corners of `model`'s bounding box (boundsMin, boundsMax), each mapped by the
 // affine `transform` (e.g. cameraFromModel): corner i takes boundsMax's x, y, z where bits 0,
 // 1, 2 of i are set.

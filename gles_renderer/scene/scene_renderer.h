@@ -130,6 +130,10 @@ struct StageTime {
 // timed always.
 struct RenderStats {
     int mapsUpdated = 0;
+    // Of those, the sets whose SH projection and diffuse map, and whose glossy maps, were
+    // rebuilt: only where the object's materials read them (EnvironmentMapReads).
+    int shProjected = 0;
+    int mapsPrefiltered = 0;
     int facesCulled = 0;       // objects left out of cube faces they cannot appear in
     StageTime environmentMaps; // cube faces: skybox and the other objects
     StageTime sh;              // SH projection and the diffuse map

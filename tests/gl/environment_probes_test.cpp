@@ -217,6 +217,59 @@ TEST(EnvironmentProbes, PoliciesUpdateTheMapsTheyPromise)
     }
 }
 
+// An object's set of maps derives only the maps its materials read (EnvironmentMapReads): the
+// chrome sphere's shading reads its mirror map alone, so its SH projection, diffuse map and
+// glossy prefilters are not built; the lamp (no diffuse term: black; glossiness above 1/4:
+// makeCube's roughness 0.5, n = 30) reads the glossy maps but not the diffuse one. An object whose material changes to
+// one that reads more (the sphere turned into a grey diffuse cube) gets them rebuilt on that very frame, even where its
+// policy would have kept its maps for a few frames: never a map that was never drawn. Its diffuse map then shows the
+// grey environment (0.2) on its far side from the lamp.
+TEST(EnvironmentProbes, OnlyTheMapsAnObjectsMaterialsReadAreDerived)
+{
+    RenderOptions options;
+    options.environmentMaps.policy = EnvironmentMapPolicy::EveryKFrames;
+    options.environmentMaps.everyK = 3; // object k is due on frames where (frame + k) % 3 == 0
+    LUMAR_RENDERER_OR_SKIP(renderer, kWidth, kHeight, options);
+    Scene scene = makeScene(renderer);
+    GltfModel greyCube = makeCube();
+    greyCube.materials[0].baseColorFactor = glm::vec4(0.2f, 0.2f, 0.2f, 1.0f);
+    const ModelId grey = renderer.addModel(greyCube);
+    const auto render = [&] {
+        renderer.render(test::solidImage(kWidth, kHeight, 0, 0, 0), intrinsics(), scene.items);
+        return renderer.lastStats();
+    };
+    // Frame 0: both are new; the sphere's set gets its mirror map alone, the lamp's its glossy
+    // maps too.
+    const RenderStats first = render();
+    EXPECT_EQ(first.mapsUpdated, 2);
+    EXPECT_EQ(first.shProjected, 0);
+    EXPECT_EQ(first.mapsPrefiltered, 1);
+    render(); // frame 1: nobody is due
+    render(); // frame 2: the lamp
+    EXPECT_EQ(renderer.lastStats().mapsUpdated, 1);
+    EXPECT_EQ(renderer.lastStats().mapsPrefiltered, 1);
+    render(); // frame 3: the sphere, its mirror map alone
+    EXPECT_EQ(renderer.lastStats().mapsUpdated, 1);
+    EXPECT_EQ(renderer.lastStats().shProjected, 0);
+    EXPECT_EQ(renderer.lastStats().mapsPrefiltered, 0);
+    // Frame 4, nobody due: the sphere turns into a grey cube, which reads the diffuse map (its
+    // diffuse term) and the glossy ones.
+    scene.items[0].model = grey;
+    const RenderStats turned = render();
+    EXPECT_EQ(turned.mapsUpdated, 1) << "the turned object's maps were not rebuilt at once";
+    EXPECT_EQ(turned.shProjected, 1);
+    EXPECT_EQ(turned.mapsPrefiltered, 1);
+    const IblMaps* maps = renderer.objectMaps(0);
+    ASSERT_NE(maps, nullptr);
+    const IblSettings settings;
+    const IblTextures t = maps->textures();
+    const CubeMapF diffuse = test::readCubeAtlas(t.diffuse, settings.diffuseSize, 0, t.slot, t.slots);
+    // The lamp lies along +x: the -X face's hemisphere does not see it.
+    const glm::vec3 far = maxOf(diffuse.faces[1]);
+    EXPECT_NEAR(far.r, 0.2f, 0.03f);
+    EXPECT_NEAR(far.g, 0.2f, 0.03f);
+}
+
 // Neighbours are drawn only into the faces their bounding box reaches (EnvironmentProbes'
 // per-face culling): a long bar lying along +x of a small cube's centre shows in the cube's
 // +X face alone, where a bounding sphere (the bar's is as wide as it is long) reached into
