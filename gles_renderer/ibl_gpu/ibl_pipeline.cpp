@@ -632,10 +632,18 @@ void IblPipeline::prefilter(IblMaps& maps) const
 
 void IblPipeline::prefilterSlots(IblMaps& bank, std::span<const int> slots) const
 {
-    if (slots.empty())
+    prefilterSlots(bank, slots, slots);
+}
+
+void IblPipeline::prefilterSlots(IblMaps& bank, std::span<const int> glossy2Slots,
+                                 std::span<const int> glossy1Slots) const
+{
+    if (glossy2Slots.empty())
         return;
     // source: the size of the bank's level read.
-    const auto run = [&](const Prefilter& p, GLuint atlas, int size, glm::vec2 source) {
+    const auto run = [&](const Prefilter& p, std::span<const int> slots, GLuint atlas, int size, glm::vec2 source) {
+        if (slots.empty())
+            return;
         glBindBufferBase(GL_UNIFORM_BUFFER, kLobeSamplesBinding, p.samples.name());
         renderFaces(atlas, size, slots, p.program, [&](int slot, int face) {
             const glm::mat3 m = environmentFromFace(face);
@@ -648,11 +656,11 @@ void IblPipeline::prefilterSlots(IblMaps& bank, std::span<const int> slots) cons
     // Every mirror level, the level of each sample's own choosing (LINEAR_MIPMAP_NEAREST).
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.mirror.name());
     glBindSampler(GLuint(kSourceUnit), nearestLevel_.name());
-    run(glossy2_, bank.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(0, bank.slots));
+    run(glossy2_, glossy2Slots, bank.glossy2.name(), settings_.glossy2Size, mirrorLevelSize(0, bank.slots));
     glBindSampler(GLuint(kSourceUnit), 0);
     // glossy-2 has a single level: read as it is.
     bindTextureUnit(kSourceUnit, GL_TEXTURE_2D, bank.glossy2.name());
-    run(glossy1_, bank.glossy1.name(), settings_.glossy1Size,
+    run(glossy1_, glossy1Slots, bank.glossy1.name(), settings_.glossy1Size,
         glm::vec2(cubeAtlasSize(settings_.glossy2Size) * glm::ivec2(1, bank.slots)));
     bank.ready = true;
 }

@@ -83,6 +83,9 @@ public:
     // The same for the listed slots of a bank, one pass per map for all of them.
     void projectSHSlots(IblMaps& bank, std::span<const int> slots) const;
     void prefilterSlots(IblMaps& bank, std::span<const int> slots) const;
+    // glossy-2 for glossy2Slots, glossy-1 (cascaded from glossy-2) for glossy1Slots, which
+    // must be among them.
+    void prefilterSlots(IblMaps& bank, std::span<const int> glossy2Slots, std::span<const int> glossy1Slots) const;
 
 private:
     struct Prefilter {

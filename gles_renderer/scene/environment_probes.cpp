@@ -385,6 +385,7 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
     // The derived maps only of the slots whose objects read them (EnvironmentMapReads).
     shSlots_.clear();
     glossySlots_.clear();
+    glossy1Slots_.clear();
     for (const int k : updatedSlots_) {
         const int object = bank.objects[size_t(k)];
         const auto probe = std::find_if(probesThisPass_.begin(), probesThisPass_.end(),
@@ -395,10 +396,12 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
             shSlots_.push_back(k);
         if (reads.glossy1 || reads.glossy2)
             glossySlots_.push_back(k);
+        if (reads.glossy1)
+            glossy1Slots_.push_back(k);
     }
     pipeline_.projectSHSlots(bank.maps, shSlots_);
     timer.split(stats.sh);
-    pipeline_.prefilterSlots(bank.maps, glossySlots_);
+    pipeline_.prefilterSlots(bank.maps, glossySlots_, glossy1Slots_);
     timer.split(stats.prefilter);
     pointViews(bank.maps.mirror.name());
     for (const int k : updatedSlots_)

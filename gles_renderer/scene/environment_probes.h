@@ -169,8 +169,9 @@ private:
     std::vector<Probe> probesThisPass_;
     std::vector<IblPipeline::MirrorSlot> mirrorSlots_;
     std::vector<int> updatedSlots_;
-    std::vector<int> shSlots_;     // of updatedSlots_: the objects that read the diffuse map
-    std::vector<int> glossySlots_; // ... a glossy map
+    std::vector<int> shSlots_;      // of updatedSlots_: the objects that read the diffuse map
+    std::vector<int> glossySlots_;  // ... a glossy map (glossy-2 is glossy-1's source)
+    std::vector<int> glossy1Slots_; // ... glossy-1
     std::vector<size_t> bankUpdates_;
     std::vector<DrawItem> faceItems_;
     std::vector<const IblMaps*> faceMaps_;
