@@ -356,6 +356,10 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
 
     mirrorSlots_.clear();
     updatedSlots_.clear();
+    // The derived maps only of the slots whose objects read them (EnvironmentMapReads).
+    shSlots_.clear();
+    glossySlots_.clear();
+    glossy1Slots_.clear();
     for (size_t k = 0; k < bank.objects.size(); ++k) {
         const int object = bank.objects[k];
         if (object < 0)
@@ -371,6 +375,14 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
                 drawProbeFace(*p, face, false, p->phantoms, models, items, environment, meshes, shadows, camera, stats);
             };
             updatedSlots_.push_back(int(k));
+            const EnvironmentMapReads reads = itemReads_[probe->owner];
+            builtReads_[object] = reads;
+            if (reads.diffuse)
+                shSlots_.push_back(int(k));
+            if (reads.glossy1 || reads.glossy2)
+                glossySlots_.push_back(int(k));
+            if (reads.glossy1)
+                glossy1Slots_.push_back(int(k));
         } else if (probes_[object].ready) {
             // Not updated: its last maps carried over into the texture drawn now.
             slot.backdrop = bank.previousMirror.name();
@@ -382,23 +394,6 @@ void EnvironmentProbes::renderBank(size_t b, std::span<const size_t> updates, co
     }
     pipeline_.renderMirrorSlots(bank.maps, mirrorSlots_);
     timer.split(stats.environmentMaps);
-    // The derived maps only of the slots whose objects read them (EnvironmentMapReads).
-    shSlots_.clear();
-    glossySlots_.clear();
-    glossy1Slots_.clear();
-    for (const int k : updatedSlots_) {
-        const int object = bank.objects[size_t(k)];
-        const auto probe = std::find_if(probesThisPass_.begin(), probesThisPass_.end(),
-                                        [&](const Probe& p) { return items[p.owner].object == object; });
-        const EnvironmentMapReads reads = environmentMapReads(models[size_t(items[probe->owner].model)]);
-        builtReads_[object] = reads;
-        if (reads.diffuse)
-            shSlots_.push_back(k);
-        if (reads.glossy1 || reads.glossy2)
-            glossySlots_.push_back(k);
-        if (reads.glossy1)
-            glossy1Slots_.push_back(k);
-    }
     pipeline_.projectSHSlots(bank.maps, shSlots_);
     timer.split(stats.sh);
     pipeline_.prefilterSlots(bank.maps, glossySlots_, glossy1Slots_);
@@ -419,16 +414,18 @@ EnvironmentProbes::update(const std::vector<GpuModel>& models, std::span<const D
     if (environment.generation() != environmentGeneration_)
         rebuildEnvironmentMaps(environment);
 
-    // An object whose materials now read maps its set was not built with (a material edited
-    // from chrome to paint) shows the real environment's maps until its own are rebuilt with
-    // them, as a new object does: never maps that were never drawn.
-    for (const DrawItem& item : items) {
+    // Each owner's reads, once a frame (renderBank records them as built). An object whose
+    // materials now read maps its set was not built with (a material edited from chrome to
+    // paint) shows the real environment's maps until its own are rebuilt with them, as a new
+    // object does: never maps that were never drawn.
+    itemReads_.assign(items.size(), EnvironmentMapReads{});
+    for (size_t i = 0; i < items.size(); ++i) {
+        const DrawItem& item = items[i];
         if (item.object < 0 || item.phantom)
             continue;
+        itemReads_[i] = environmentMapReads(models[size_t(item.model)]);
         const auto probe = probes_.find(item.object);
-        if (probe == probes_.end() || !probe->second.ready)
-            continue;
-        if (!builtReads_[item.object].covers(environmentMapReads(models[size_t(item.model)])))
+        if (probe != probes_.end() && probe->second.ready && !builtReads_[item.object].covers(itemReads_[i]))
             probe->second.ready = false;
     }
     maps_.resize(items.size());

@@ -169,9 +169,10 @@ private:
     std::vector<Probe> probesThisPass_;
     std::vector<IblPipeline::MirrorSlot> mirrorSlots_;
     std::vector<int> updatedSlots_;
-    std::vector<int> shSlots_;      // of updatedSlots_: the objects that read the diffuse map
-    std::vector<int> glossySlots_;  // ... a glossy map (glossy-2 is glossy-1's source)
-    std::vector<int> glossy1Slots_; // ... glossy-1
+    std::vector<EnvironmentMapReads> itemReads_; // per item: the maps an owner's materials read
+    std::vector<int> shSlots_;                   // of updatedSlots_: the objects that read the diffuse map
+    std::vector<int> glossySlots_;               // ... a glossy map (glossy-2 is glossy-1's source)
+    std::vector<int> glossy1Slots_;              // ... glossy-1
     std::vector<size_t> bankUpdates_;
     std::vector<DrawItem> faceItems_;
     std::vector<const IblMaps*> faceMaps_;
