@@ -1,7 +1,6 @@
 #include "bench/tracking_overhead.h"
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <fstream>
 #include <functional>
@@ -11,6 +10,7 @@
 #include <apriltag/apriltag.h>
 
 #include "bench/tracking_bench_scene.h"
+#include "bench/tracking_scoring.h"
 #include "core/error.h"
 #include "tracking/apriltag_family.h"
 #include "tracking/tag_tracker.h"
@@ -23,20 +23,6 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point start)
 {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-std::string fixed(double v, int decimals)
-{
-    char text[64];
-    const auto end = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed, decimals).ptr;
-    return std::string(text, end);
-}
-
-double median(std::vector<double> v)
-{
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 std::string loadAverage()

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <thread>
 
 #include "core/environment_frame.h"
@@ -10,8 +11,6 @@
 
 namespace lumar {
 namespace {
-
-constexpr float kPi = 3.14159265358979323846f;
 
 // atan2 within 1e-5 rad (a 7th-order minimax fit of atan on [0, 1]), branch-free so the
 // bake's direction loop vectorizes: the map's texels are 6e-3 rad, and std::atan2 made the
@@ -23,8 +22,8 @@ constexpr float kPi = 3.14159265358979323846f;
     const float a = std::min(ax, ay) / std::max(std::max(ax, ay), 1e-30f);
     const float s = a * a;
     float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
-    r = ay > ax ? 0.5f * kPi - r : r;
-    r = x < 0.0f ? kPi - r : r;
+    r = ay > ax ? 0.5f * std::numbers::pi_v<float> - r : r;
+    r = x < 0.0f ? std::numbers::pi_v<float> - r : r;
     return y < 0.0f ? -r : r;
 }
 
@@ -32,8 +31,8 @@ constexpr float kPi = 3.14159265358979323846f;
 // edge (unwrapped), y from the top, pixel centres at half-integers (environment_map.h).
 [[gnu::always_inline]] inline glm::vec2 equirectPixel(const glm::vec3& e, int width, int height)
 {
-    const float u = 0.5f + fastAtan2(e.z, e.x) * (0.5f / kPi);
-    const float v = fastAtan2(std::sqrt(e.x * e.x + e.z * e.z), e.y) * (1.0f / kPi);
+    const float u = 0.5f + fastAtan2(e.z, e.x) * (0.5f / std::numbers::pi_v<float>);
+    const float v = fastAtan2(std::sqrt(e.x * e.x + e.z * e.z), e.y) * (1.0f / std::numbers::pi_v<float>);
     return {u * float(width) - 0.5f, v * float(height) - 0.5f};
 }
 

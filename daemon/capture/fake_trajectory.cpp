@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace lumar {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegrees = kPi / 180.0;
+constexpr double kDegrees = std::numbers::pi / 180.0;
 
 // The radius of a default tag (16 cm, white frame included) seen from its centre: the
 // orbit below is tuned for it and scaled up for larger layouts.
@@ -36,7 +36,7 @@ FakeTrajectory::FakeTrajectory(const std::vector<FakeTagConfig>& tags)
 Pose FakeTrajectory::cameraFromWorld(double seconds) const
 {
     // Every term's frequency is a whole multiple of the base, so the path repeats exactly.
-    const double phase = 2.0 * kPi * seconds / kPeriodSeconds;
+    const double phase = 2.0 * std::numbers::pi * seconds / kPeriodSeconds;
     const double distance = scale_ * (0.65 + 0.15 * std::sin(phase + 0.5));
     const double elevation = (52.5 + 12.5 * std::sin(2.0 * phase + 1.0)) * kDegrees;
     const double azimuth = (-90.0 + 45.0 * std::sin(phase)) * kDegrees;

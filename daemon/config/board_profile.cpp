@@ -84,12 +84,6 @@ template <typename Check> std::vector<std::string> readStringList(TableReader& r
     return values;
 }
 
-void checkEven(TableReader& r, std::string_view key, int value)
-{
-    if (value % 2 != 0)
-        r.fail(r.node(key), key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
-}
-
 void readBoard(TableReader& root, BoardProfile& board)
 {
     const toml::table* table = root.table("board");
@@ -130,9 +124,9 @@ void readCamera(TableReader& root, BoardCameraProfile& camera)
         return {};
     });
     r.integer("width", camera.width, 16, 8192);
-    checkEven(r, "width", camera.width);
+    r.checkEven("width", camera.width);
     r.integer("height", camera.height, 16, 8192);
-    checkEven(r, "height", camera.height);
+    r.checkEven("height", camera.height);
     r.number("fps", camera.fps, 0.0, 240.0, true);
     r.finish();
 }

@@ -54,12 +54,6 @@ template <typename Fn> void forEachTable(TableReader& parent, std::string_view k
     }
 }
 
-void checkEven(TableReader& r, std::string_view key, int value)
-{
-    if (value % 2 != 0)
-        r.fail(r.node(key), key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
-}
-
 // A key that holds either the string "auto" (stored as CameraControlsConfig::kAuto) or an
 // integer within [min, max].
 void autoOrInteger(TableReader& r, std::string_view key, std::optional<int>& out, long long min, long long max)
@@ -176,9 +170,9 @@ void readCamera(TableReader& root, CameraConfig& camera, const Context& ctx)
     r.oneOf("zero_copy", camera.zeroCopy, {"auto", "off"});
     readCameraControls(r, camera.controls);
     r.integer("width", camera.width, 16, 8192);
-    checkEven(r, "width", camera.width);
+    r.checkEven("width", camera.width);
     r.integer("height", camera.height, 16, 8192);
-    checkEven(r, "height", camera.height);
+    r.checkEven("height", camera.height);
     r.number("fps", camera.fps, 0.0, 240.0, true);
     r.boolean("loop", camera.loop);
     r.unsignedInteger("seed", camera.seed);

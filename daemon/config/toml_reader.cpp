@@ -238,6 +238,12 @@ const toml::array* TableReader::arrayOfTables(std::string_view key)
     return a;
 }
 
+void TableReader::checkEven(std::string_view key, int value) const
+{
+    if (value % 2 != 0)
+        fail(node(key), key, std::to_string(value) + " must be even (4:2:0 video needs even sizes)");
+}
+
 void TableReader::finish() const
 {
     for (const auto& [key, node] : table_) {

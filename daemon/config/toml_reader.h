@@ -46,6 +46,9 @@ public:
     const toml::table* table(std::string_view key);
     const toml::array* arrayOfTables(std::string_view key);
 
+    // Fails naming `key` unless `value` (read from it) is even: 4:2:0 video needs even sizes.
+    void checkEven(std::string_view key, int value) const;
+
     // Throws for the first key that was never read.
     void finish() const;
 

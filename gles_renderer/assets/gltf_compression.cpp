@@ -12,9 +12,6 @@
 namespace lumar::gltf {
 namespace {
 
-constexpr const char* kDraco = "KHR_draco_mesh_compression";
-constexpr const char* kMeshopt = "EXT_meshopt_compression";
-
 using Json = nlohmann::json;
 
 // `object[key]` when `object` is an object that has it, else null.
@@ -125,11 +122,6 @@ std::string missingDecoder(const char* extension, const char* library, const cha
 {
     return std::string("requires ") + extension + ", but this build of lumar has no decoder for it (" + library +
            ", CMake option " + option + ")";
-}
-
-uint32_t readLittleEndian32(const unsigned char* p)
-{
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
 void appendLittleEndian32(std::vector<unsigned char>& out, uint32_t value)

@@ -20,6 +20,16 @@ namespace lumar::gltf {
 // (gltf_parse.cpp), so a small file cannot decode into more memory than a large one holds.
 inline constexpr size_t kMaxDecodedBytes = size_t(1) << 30;
 
+// The two extensions' names as glTF files spell them.
+inline constexpr const char* kDraco = "KHR_draco_mesh_compression";
+inline constexpr const char* kMeshopt = "EXT_meshopt_compression";
+
+// A GLB's little-endian 32-bit word at `p` (header and chunk fields).
+inline uint32_t readLittleEndian32(const unsigned char* p)
+{
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
 // Whether this build decodes each extension (CMake options LUMAR_WITH_DRACO and
 // LUMAR_WITH_MESHOPT_DECODER).
 bool dracoDecoderBuilt();

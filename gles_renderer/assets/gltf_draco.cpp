@@ -24,8 +24,6 @@ namespace lumar::gltf {
 
 namespace {
 
-constexpr const char* kDraco = "KHR_draco_mesh_compression";
-
 // One decoded Draco buffer view; several primitives may share it.
 struct DecodedGeometry {
     std::unique_ptr<draco::PointCloud> geometry;

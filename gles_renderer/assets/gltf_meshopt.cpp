@@ -16,8 +16,6 @@ namespace lumar::gltf {
 
 namespace {
 
-constexpr const char* kMeshopt = "EXT_meshopt_compression";
-
 // meshoptimizer's codecs cannot expand data by more than this: the attribute codec spends at
 // least 2 header bits on each group of 16 bytes (a group of zero deltas costs nothing else),
 // the triangle codec a byte per triangle of up to 12 bytes, the index codec a byte per index

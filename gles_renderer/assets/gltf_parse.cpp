@@ -33,11 +33,6 @@ constexpr int kMaxImageSide = 16384;
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kChunkJson = 0x4E4F534A; // "JSON"
 
-uint32_t readLittleEndian32(const unsigned char* p)
-{
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
 // The GLB container (glTF 2.0 §4.4): a 12-byte header, then chunks of (length, type, data),
 // the first one JSON. tinygltf 2.7 reads a BIN chunk's 8-byte header without counting it
 // against the file length, so every chunk is checked here first.
