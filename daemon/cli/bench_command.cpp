@@ -12,6 +12,12 @@
 #include <vector>
 
 #include <malloc.h>
+#if defined(__SANITIZE_ADDRESS__)
+// AddressSanitizer's allocator statistics (compiler-rt's sanitizer/allocator_interface.h, which
+// GCC does not install; libasan exports them).
+extern "C" size_t __sanitizer_get_current_allocated_bytes();
+extern "C" size_t __sanitizer_get_heap_size();
+#endif
 
 #include "capture/replay_source.h"
 #include "commands.h"
@@ -75,10 +81,20 @@ constexpr double kMegabyte = 1024.0 * 1024.0;
 // or not), and blocks mapped on their own (issue 18: where the resident memory goes).
 Json heapFigures()
 {
+#if defined(__SANITIZE_ADDRESS__)
+    // Under AddressSanitizer its allocator serves the heap and mallinfo2 reads zeros: its own
+    // counters instead (free: what it keeps mapped beyond what is allocated).
+    const double inUse = double(__sanitizer_get_current_allocated_bytes());
+    const double heap = double(__sanitizer_get_heap_size());
+    return Json{{"in_use_mb", jsonDecimals(inUse / kMegabyte, 1)},
+                {"free_mb", jsonDecimals(std::max(0.0, heap - inUse) / kMegabyte, 1)},
+                {"mapped_mb", jsonDecimals(0.0, 1)}};
+#else
     const struct mallinfo2 info = mallinfo2();
     return Json{{"in_use_mb", jsonDecimals(double(info.uordblks + info.hblkhd) / kMegabyte, 1)},
                 {"free_mb", jsonDecimals(double(info.fordblks) / kMegabyte, 1)},
                 {"mapped_mb", jsonDecimals(double(info.hblkhd) / kMegabyte, 1)}};
+#endif
 }
 
 } // namespace

@@ -109,10 +109,7 @@ public:
         if (video_) {
             video_->write(frame);
         } else if (!path_.empty() && now >= nextStill_) {
-            // Write beside the target and rename, so a reader never sees a half-written file.
-            const std::filesystem::path partial = path_.string() + ".partial.png";
-            writePng(partial, frame);
-            std::filesystem::rename(partial, path_);
+            writeStill(frame);
             nextStill_ = now + std::chrono::seconds(1);
         }
     }
@@ -121,10 +118,18 @@ public:
         if (video_)
             video_->finish();
         else if (!path_.empty() && !last.empty())
-            present(last, std::chrono::steady_clock::time_point::max());
+            writeStill(last);
     }
 
 private:
+    // Beside the target, then renamed: a reader never sees a half-written file.
+    void writeStill(const Image8& frame)
+    {
+        const std::filesystem::path partial = path_.string() + ".partial.png";
+        writePng(partial, frame);
+        std::filesystem::rename(partial, path_);
+    }
+
     std::filesystem::path path_;
     std::unique_ptr<FrameWriter> video_;
     std::chrono::steady_clock::time_point nextStill_{};

@@ -68,6 +68,32 @@ void operator delete[](void* p, size_t) noexcept
 {
     countedRelease(p);
 }
+// The nothrow forms too: LLVM uses them, and under AddressSanitizer, which replaces every form
+// the program does not, its new paired with the delete above was an alloc-dealloc mismatch.
+void* operator new(size_t size, const std::nothrow_t&) noexcept
+{
+    try {
+        return countedAllocation(size);
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void* operator new[](size_t size, const std::nothrow_t&) noexcept
+{
+    try {
+        return countedAllocation(size);
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept
+{
+    countedRelease(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept
+{
+    countedRelease(p);
+}
 
 namespace lumar {
 namespace {
