@@ -22,15 +22,24 @@ namespace {
 std::atomic<size_t> gLiveBytes{0};
 std::atomic<size_t> gPeakBytes{0};
 
-void* countedAllocation(size_t size)
+// nullptr when malloc fails (the nothrow forms return it, the others throw).
+void* countedAllocationOrNull(size_t size) noexcept
 {
     void* p = std::malloc(size == 0 ? 1 : size);
     if (!p)
-        throw std::bad_alloc();
+        return nullptr;
     const size_t live = gLiveBytes.fetch_add(malloc_usable_size(p)) + malloc_usable_size(p);
     size_t peak = gPeakBytes.load();
     while (live > peak && !gPeakBytes.compare_exchange_weak(peak, live)) {
     }
+    return p;
+}
+
+void* countedAllocation(size_t size)
+{
+    void* p = countedAllocationOrNull(size);
+    if (!p)
+        throw std::bad_alloc();
     return p;
 }
 
@@ -72,19 +81,11 @@ void operator delete[](void* p, size_t) noexcept
 // the program does not, its new paired with the delete above was an alloc-dealloc mismatch.
 void* operator new(size_t size, const std::nothrow_t&) noexcept
 {
-    try {
-        return countedAllocation(size);
-    } catch (const std::bad_alloc&) {
-        return nullptr;
-    }
+    return countedAllocationOrNull(size);
 }
 void* operator new[](size_t size, const std::nothrow_t&) noexcept
 {
-    try {
-        return countedAllocation(size);
-    } catch (const std::bad_alloc&) {
-        return nullptr;
-    }
+    return countedAllocationOrNull(size);
 }
 void operator delete(void* p, const std::nothrow_t&) noexcept
 {
