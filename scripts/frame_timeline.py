@@ -92,12 +92,16 @@ def analyse(text, args):
             m = re.search(r"next_comm=(.*?) next_pid=(\d+)", e[4])
             names[int(m.group(2))] = m.group(1)
     cpus = len({e[1] for e in events})
+    # Whole frames only: from the first frame's start to the last one's.
+    steps = [e[0] for e in events if e[3] == "probe_lumar:p0" and e[2] == render]
+    if len(steps) < 2:
+        sys.exit("fewer than two frame starts were recorded")
     running, phase, previous = {}, "?", events[0][0]
     wall, idle, alone, raster = (collections.Counter() for _ in range(4))
     segments, frames = [], 0
     for t, cpu, tid, event, rest in events:
         span = t - previous
-        if len(running) == cpus and span > 0:
+        if len(running) == cpus and span > 0 and steps[0] <= previous and t <= steps[-1]:
             busy = [p for p in running.values() if p != 0]
             rasterising = sum(1 for p in busy if names.get(p, "").startswith("llvmpipe"))
             wall[phase] += span
@@ -128,7 +132,7 @@ def analyse(text, args):
             if span >= 5e-5:
                 print(f"{(t - start) * 1e3:8.2f} {span * 1e3:6.2f} {state:3} {name}")
         return
-    frames = max(frames - 1, 1)
+    frames = len(steps) - 1
     print(f"{frames} frames, {cpus} cores; ms per frame")
     print(f"{'phase':15} {'wall':>7} {'idle':>7} {'alone':>7} {'raster':>7}")
     for name, _ in PROBES:

@@ -42,10 +42,11 @@ constexpr int kLoadingMmapThreshold = 256 * 1024;
 constexpr int kRunningMmapThreshold = 32 * 1024 * 1024;
 // Once loaded: the free memory glibc keeps at the top of the main heap before it hands it back.
 // Setting the mmap threshold fixes the trim threshold at its 128 KiB default instead of letting
-// it follow, so the blocks llvmpipe's scenes and draws free every frame (bins, vertex buffers)
-// shrank the heap (brk, whose unmapping interrupts the other core to flush its TLB) and the
-// next frame faulted the same pages back: car.toml with bloom, replayed, 33 page faults a
-// frame, ~1 at 4 MiB or more (8 MiB: margin). Resident memory: +2 MiB, peak unchanged.
+// it follow, so the large blocks llvmpipe frees every frame (inside glDrawElements and its
+// scene handling) shrank the heap (brk, whose unmapping interrupts the other core to flush its
+// TLB) and the next frame faulted the same pages back: car.toml with bloom, replayed, 33-108
+// page faults a frame, ~1 at 4 MiB or more (8 MiB: margin). Resident memory: +2 MiB, peak
+// unchanged.
 constexpr int kRunningTrimThreshold = 8 * 1024 * 1024;
 
 // glibc's malloc arenas: one, shared by every thread. By default each thread that meets a
