@@ -335,8 +335,10 @@ private:
             meshes_.onTransparentStart([&] { timer.split(stats_.shading); });
         if (lens_)
             meshes_.onBlending([&](bool blending) { lens_->blendingVirtual(blending); });
+        // Each model at its frame level of detail (framePrimitivesFor) for its size in pixels.
         meshes_.draw(frame_, models_, items, maps, -1,
-                     shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly);
+                     shadows_.enabled() ? MeshPass::Phantoms::Skip : MeshPass::Phantoms::DepthOnly,
+                     MeshPass::Detail::Full, std::max(intrinsics.fx, intrinsics.fy));
         meshes_.onTransparentStart(nullptr);
         meshes_.onBlending(nullptr);
         if (lens_) {

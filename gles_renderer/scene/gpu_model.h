@@ -82,6 +82,10 @@ struct GpuModel {
         std::vector<GpuPrimitive> primitives;
     };
     std::vector<ProxyLevel> proxyLevels; // finest first; never empty after uploadModel
+    // The model simplified far below a pixel of the frame (frameLevelFor): flat stretches
+    // a modeller subdivided drawn as fewer, larger triangles. Finest first; empty where no
+    // level saves enough triangles (kFrameLevelMinTriangleSaving), and for deforming models.
+    std::vector<ProxyLevel> frameLevels;
     // An animated model's posing state (model_pose_upload.h); null for a still one. Its
     // bounds, transforms and (deforming models) vertices change with every pose, and
     // poseGeneration counts the poses.
@@ -105,6 +109,23 @@ inline constexpr double kProxyMaxCellPixels = 1.0;
 // view (<= 0 or not finite: unknown, the finest): the coarsest level whose cell spans at
 // most kProxyMaxCellPixels, else the finest.
 const GpuModel::ProxyLevel& proxyLevelFor(const GpuModel& model, double modelPixels);
+
+// The frame's levels (GpuModel::frameLevels), cells along the longest side, finest first.
+inline constexpr int kFrameLevelCells[] = {4096, 1024};
+// The widest a frame level's cell may appear, in pixels. A level strays from the model by its
+// simplification bound, a fifth of a cell (mesh_simplify.cpp), and no sampled vertex by more
+// than 0.6 of one: at half a pixel a cell, silhouettes move by a tenth of a pixel (at most
+// 0.3), which the frame's single sample per pixel shows as a handful of edge pixels.
+inline constexpr double kFrameMaxCellPixels = 0.5;
+// A frame level is kept only where it draws at least this share fewer triangles than the
+// level (or the model) before it: on llvmpipe a triangle's edges are most of its shading
+// (mesh_pass.h), so fewer triangles is what a level is for.
+inline constexpr double kFrameLevelMinTriangleSaving = 0.05;
+
+// What to draw for `model` in the frame when its longest side spans `modelPixels` pixels
+// (<= 0 or not finite: unknown): the coarsest frame level whose cell spans at most
+// kFrameMaxCellPixels, else the model itself.
+const std::vector<GpuPrimitive>& framePrimitivesFor(const GpuModel& model, double modelPixels);
 
 // Which of an object's own environment maps its shading can read (mesh.frag, in the frame and
 // in other objects' cube faces alike): the mirror map always; the diffuse map where a

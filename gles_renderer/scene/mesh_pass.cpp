@@ -316,9 +316,9 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
     if (shaded)
         state.bindMaps(maps);
     const GpuModel& model = models[size_t(item.model)];
+    const double pixels = focalPixels > 0.0 ? modelPixels(item, model, focalPixels) : 0.0;
     const std::vector<GpuPrimitive>& primitives =
-        detail == Detail::Proxy ? proxyLevelFor(model, modelPixels(item, model, focalPixels)).primitives
-                                : model.primitives;
+        detail == Detail::Proxy ? proxyLevelFor(model, pixels).primitives : framePrimitivesFor(model, pixels);
     for (const GpuPrimitive& primitive : primitives) {
         const GpuMaterial& material = model.materials[primitive.material];
         // Glass too: it shows what its maps hold behind it, and blended ones behind it must

@@ -32,6 +32,8 @@ void poseGpuModel(GpuModel& model, std::span<const ClipTime> clips)
     update(model.primitives);
     for (GpuModel::ProxyLevel& level : model.proxyLevels)
         update(level.primitives);
+    for (GpuModel::ProxyLevel& level : model.frameLevels)
+        update(level.primitives);
 
     // A deforming model's stand-in is the model itself (uploadModel): the same vertices go
     // into both, interleaved once.
