@@ -74,8 +74,10 @@ public:
           profile_(options.profile)
     {
         meshes_.setShadowMap(shadows_.map());
-        if (options.lens.enabled)
+        if (options.lens.enabled) {
             lens_ = std::make_unique<LensEffects>(target_, options.lens, probes_.rgbm());
+            lens_->useHelper(&helper_);
+        }
         checkGlError("creating the scene renderer");
         // Zero-copy camera frames are imported from their dmabufs where this display can.
         background_.enableDmabufImport(options.display ? *options.display : *EglDisplay::surfaceless());

@@ -60,9 +60,16 @@ ImageF RadianceRegion::image() const
 
 void downsampleRegion(const RadianceRegion& source, RadianceRegion& level)
 {
-    const PixelRect& texels = level.texels();
+    downsampleRegion(source, level, level.texels());
+}
+
+void downsampleRegion(const RadianceRegion& source, RadianceRegion& level, const PixelRect& within)
+{
+    const PixelRect texels = intersection(within, level.texels());
+    if (texels.empty())
+        return;
     for (int y = texels.y0; y < texels.y1; ++y) {
-        float* out = level.row(y);
+        float* out = level.row(y) + size_t(texels.x0 - level.texels().x0) * 3;
         for (int x = texels.x0; x < texels.x1; ++x, out += 3) {
             const glm::vec3 sum = source.at(2 * x, 2 * y) + source.at(2 * x + 1, 2 * y) + source.at(2 * x, 2 * y + 1) +
                                   source.at(2 * x + 1, 2 * y + 1);
@@ -110,10 +117,18 @@ void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, 
 void gatherGlareRegion(const RadianceRegion& source, std::span<const glm::vec2> steps, std::span<const float> weights,
                        RadianceRegion& out)
 {
-    const PixelRect& texels = out.texels();
+    gatherGlareRegion(source, steps, weights, out, out.texels());
+}
+
+void gatherGlareRegion(const RadianceRegion& source, std::span<const glm::vec2> steps, std::span<const float> weights,
+                       RadianceRegion& out, const PixelRect& within)
+{
+    const PixelRect texels = intersection(within, out.texels());
+    if (texels.empty())
+        return;
     const float centreWeight = float(steps.size()) * weights[0];
     for (int y = texels.y0; y < texels.y1; ++y) {
-        float* o = out.row(y);
+        float* o = out.row(y) + size_t(texels.x0 - out.texels().x0) * 3;
         for (int x = texels.x0; x < texels.x1; ++x, o += 3) {
             const glm::vec2 p(float(x) + 0.5f, float(y) + 0.5f);
             glm::vec3 sum = centreWeight * source.at(x, y);

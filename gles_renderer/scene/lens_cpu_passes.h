@@ -64,20 +64,24 @@ private:
 };
 
 // lens_downsample.frag past the bright pass (threshold 0): each texel of `level` (its region,
-// as reset) the mean of the 2 x 2 texels of `source` under it.
+// as reset; only those within `texels` where given) the mean of the 2 x 2 texels of `source`
+// under it.
 void downsampleRegion(const RadianceRegion& source, RadianceRegion& level);
+void downsampleRegion(const RadianceRegion& source, RadianceRegion& level, const PixelRect& texels);
 
 // lens_upsample.frag: each texel of `out` within `texels` (and its region, as reset) is
 // `level`'s texel weighted by `weight` plus `coarser` bilinearly doubled, by 1 - weight.
 void upsampleRegion(const RadianceRegion& level, const RadianceRegion& coarser, float weight, RadianceRegion& out,
                     const PixelRect& texels);
 
-// lens_glare.frag with float images: each texel of `out` (its region, as reset; the same
-// image size as `source`) gathers `source` from behind it along every streak (`steps`: one
-// sample's offset along each, texels) with `weights` by sample index, the centre once with
-// all the streaks' weight.
+// lens_glare.frag with float images: each texel of `out` (its region, as reset; only those
+// within `texels` where given; the same image size as `source`) gathers `source` from behind
+// it along every streak (`steps`: one sample's offset along each, texels) with `weights` by
+// sample index, the centre once with all the streaks' weight.
 void gatherGlareRegion(const RadianceRegion& source, std::span<const glm::vec2> steps, std::span<const float> weights,
                        RadianceRegion& out);
+void gatherGlareRegion(const RadianceRegion& source, std::span<const glm::vec2> steps, std::span<const float> weights,
+                       RadianceRegion& out, const PixelRect& texels);
 
 // A GL_R11F_G11F_B10F texel as glReadPixels gives it (GL_UNSIGNED_INT_10F_11F_11F_REV):
 // red in bits 0-10, green 11-21, blue 22-31; unsigned floats of 5 exponent bits (bias 15)

@@ -605,7 +605,8 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
     // footprint, inside the kCullMargin texels every region has to spare.
     for (size_t k = 1; k < cpuLevels_.size(); ++k) {
         cpuLevels_[k].reset(levelSizes_[k].x, levelSizes_[k].y, levelTexels(sourceBounds, 2 << k));
-        downsampleRegion(cpuLevels_[k - 1], cpuLevels_[k]);
+        inBands(cpuLevels_[k].texels(),
+                [&](const PixelRect& band) { downsampleRegion(cpuLevels_[k - 1], cpuLevels_[k], band); });
     }
     // Up the pyramid to its second level over the bounds, the glare there too (both small);
     // the finest level, the bloom itself, only where the composite will draw.
@@ -614,11 +615,15 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         for (int k = bloomLevels_ - 2; k >= 1; --k) {
             RadianceRegion& up = cpuUp_[size_t(k)];
             up.reset(levelSizes_[size_t(k)].x, levelSizes_[size_t(k)].y, levelTexels(bounds, 2 << k));
-            upsampleRegion(cpuLevels_[size_t(k)], cpuCoarser(k), 1.0f / float(bloomLevels_ - k), up, up.texels());
+            inBands(up.texels(), [&](const PixelRect& band) {
+                upsampleRegion(cpuLevels_[size_t(k)], cpuCoarser(k), 1.0f / float(bloomLevels_ - k), up, band);
+            });
         }
     if (glare_) {
         cpuGlare_.reset(levelSizes_[kGlareLevel].x, levelSizes_[kGlareLevel].y, levelTexels(bounds, kGlareScale));
-        gatherGlareRegion(cpuLevels_[kGlareLevel], glareSteps_, glareWeights_, cpuGlare_);
+        inBands(cpuGlare_.texels(), [&](const PixelRect& band) {
+            gatherGlareRegion(cpuLevels_[kGlareLevel], glareSteps_, glareWeights_, cpuGlare_, band);
+        });
     }
     const std::vector<PixelRect> reached = reachedTiles(tiles);
     PixelRect reachedBounds;
@@ -627,8 +632,12 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
     if (bloom && bloomLevels_ > 1) {
         RadianceRegion& up = cpuUp_[0];
         up.reset(levelSizes_[0].x, levelSizes_[0].y, levelTexels(reachedBounds, 2));
-        for (const PixelRect& rect : reached)
-            upsampleRegion(cpuLevels_[0], cpuCoarser(0), 1.0f / float(bloomLevels_), up, levelTexels(rect, 2));
+        // Each band upsamples the rectangles' rows within it (the rectangles are disjoint).
+        inBands(up.texels(), [&](const PixelRect& band) {
+            for (const PixelRect& rect : reached)
+                upsampleRegion(cpuLevels_[0], cpuCoarser(0), 1.0f / float(bloomLevels_), up,
+                               intersection(levelTexels(rect, 2), band));
+        });
     }
     // Uploaded where the composite reads them: its rectangles' texels, one round their
     // footprint (what the bilinear reads take).
@@ -652,6 +661,19 @@ void LensEffects::applyCulled(const RenderTarget& target, const Area& area)
         upload(glareUpload_.name(), cpuGlare_, kGlareScale);
     checkGlError("uploading the lens effects");
     composite(target, reached, bounds, bloomUpload_.name(), glareUpload_.name());
+}
+
+void LensEffects::inBands(const PixelRect& texels, const std::function<void(const PixelRect&)>& work) const
+{
+    // Fewer rows cost less than handing half of them over (a wake-up and a wait, ~20 us).
+    constexpr int kMinRowsToSplit = 16;
+    if (helper_ == nullptr || texels.y1 - texels.y0 < kMinRowsToSplit) {
+        work(texels);
+        return;
+    }
+    const int middle = texels.y0 + (texels.y1 - texels.y0) / 2;
+    const PixelRect top{texels.x0, texels.y0, texels.x1, middle}, bottom{texels.x0, middle, texels.x1, texels.y1};
+    helper_->runAlongside([&] { work(top); }, [&] { work(bottom); });
 }
 
 const RadianceRegion& LensEffects::cpuCoarser(int level) const

@@ -111,6 +111,49 @@ TEST(LensCpuPasses, TheGlareCarriesTheBrightTexelAlongItsRays)
 
 // Encodings from the format's definition (OpenGL ES 3.0 §2.1.3): 1.0 has exponent 15 and a
 // zero mantissa; the largest finite values, the smallest denormal, infinity and NaN.
+// LensEffects splits each pass in bands of texels (rows, or any rectangle) across two threads:
+// a pass over its bands writes what the pass over the whole region writes, texel for texel.
+TEST(LensCpuPasses, EachPassOverBandsWritesWhatItWritesOverTheWhole)
+{
+    const RadianceRegion source = filledRegion(40, 30, {3, 2, 37, 29}, 0.25f);
+    const PixelRect texels{2, 1, 18, 15}; // of the half-size images
+    const std::vector<PixelRect> bands{{2, 1, 18, 6}, {2, 6, 9, 15}, {9, 6, 18, 15}};
+    const auto expectSame = [](const RadianceRegion& a, const RadianceRegion& b) {
+        ASSERT_EQ(a.texels().x0, b.texels().x0);
+        ASSERT_EQ(a.texels().y1, b.texels().y1);
+        const PixelRect& t = a.texels();
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int i = 0; i < 3 * (t.x1 - t.x0); ++i)
+                ASSERT_EQ(a.row(y)[i], b.row(y)[i]) << "row " << y << " value " << i;
+    };
+    RadianceRegion whole, banded;
+    whole.reset(20, 15, texels);
+    banded.reset(20, 15, texels);
+    downsampleRegion(source, whole);
+    for (const PixelRect& band : bands)
+        downsampleRegion(source, banded, band);
+    expectSame(whole, banded);
+
+    const glm::vec2 steps[] = {{1.0f, 0.0f}, {0.5f, 0.8f}};
+    const float weights[] = {0.4f, 0.2f, 0.1f};
+    RadianceRegion glareWhole, glareBanded;
+    glareWhole.reset(20, 15, texels);
+    glareBanded.reset(20, 15, texels);
+    gatherGlareRegion(whole, steps, weights, glareWhole);
+    for (const PixelRect& band : bands)
+        gatherGlareRegion(whole, steps, weights, glareBanded, band);
+    expectSame(glareWhole, glareBanded);
+
+    const RadianceRegion coarser = filledRegion(10, 8, {0, 0, 10, 8}, 2.0f);
+    RadianceRegion upWhole, upBanded;
+    upWhole.reset(20, 15, texels);
+    upBanded.reset(20, 15, texels);
+    upsampleRegion(whole, coarser, 0.5f, upWhole, texels);
+    for (const PixelRect& band : bands)
+        upsampleRegion(whole, coarser, 0.5f, upBanded, band);
+    expectSame(upWhole, upBanded);
+}
+
 TEST(LensCpuPasses, R11G11B10TexelsDecodeToTheirValues)
 {
     const auto texel = [](uint32_t r, uint32_t g, uint32_t b) { return r | (g << 11) | (b << 22); };
