@@ -262,6 +262,8 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial, siz
             hi = glm::max(hi, position);
         }
         primitive.centre = 0.5f * (lo + hi);
+        primitive.boundsMin = lo;
+        primitive.boundsMax = hi;
     }
 
     // 16-bit indices where they suffice: half the index traffic.

@@ -60,6 +60,7 @@ struct GpuPrimitive {
     GlBuffer vertices;      // interleaved position, normal, uv, tangent
     GlBuffer extras;        // interleaved colour, uv1 where the primitive has either (else empty)
     glm::vec3 centre{0.0f}; // of its bounding box, mesh space: blended primitives' draw order
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // its bounding box, mesh space (rest pose)
     GlBuffer indices;
     GlVertexArray vertexArray;
     GLsizei indexCount = 0;

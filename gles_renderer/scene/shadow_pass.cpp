@@ -17,6 +17,7 @@
 #include "gles_renderer/gl/shader_program.h"
 #include "gles_renderer/scene/mesh_features.h"
 #include "gles_renderer/scene/mesh_pass.h"
+#include "gles_renderer/scene/model_pose_upload.h"
 #include "gles_renderer/scene/stage_timer.h"
 #include "gles_renderer/scene/tile_cover.h"
 
@@ -371,8 +372,7 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
         glm::dmat4 stableFromCamera(environmentFromCamera);
         stableFromCamera[3] = glm::dvec4(-(environmentFromCamera * glm::dvec3(first->cameraFromModel[3])), 1.0);
         if (fitLightCamera(models, items, stableFromCamera, freshFit_, freshCasters_)) {
-            PixelRect part;
-            switch (compareMap(freshFit_, freshCasters_, part)) {
+            switch (compareMap(freshFit_, freshCasters_, parts_)) {
             case Redraw::All:
                 std::swap(fit_, freshFit_);
                 std::swap(drawnCasters_, freshCasters_);
@@ -389,9 +389,9 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
                     if (freshCasters_[i].poseGeneration != drawnCasters_[i].poseGeneration)
                         drawnCasters_[i] = freshCasters_[i];
                 std::swap(fit_.prisms, freshFit_.prisms);
-                if (!part.empty()) {
+                for (const PixelRect& part : parts_) {
                     drawCasters(models, items, &part);
-                    stats.shadowMapDrawn = part.area() / (double(size_) * size_);
+                    stats.shadowMapDrawn += part.area() / (double(size_) * size_);
                 }
                 break;
             case Redraw::None:
@@ -408,8 +408,9 @@ void ShadowPass::render(const std::vector<GpuModel>& models, std::span<const Dra
 }
 
 ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector<CasterKey>& casters,
-                                          PixelRect& part) const
+                                          std::vector<PixelRect>& parts) const
 {
+    parts.clear();
     if (!drawn_ || light_.direction != drawnLightDirection_ || casters.size() != drawnCasters_.size())
         return Redraw::All;
     // Floating-point noise of poses composed from one marker and the environment's rotation
@@ -420,7 +421,22 @@ ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector
         std::abs(fit.nearZ - fit_.nearZ) > kMetres || std::abs(fit.farZ - fit_.farZ) > kMetres)
         return Redraw::All;
     bool posed = false;
-    part = {};
+    const auto add = [&parts](PixelRect part) {
+        if (part.empty())
+            return;
+        // Merged with every part it overlaps, until it overlaps none: the parts stay disjoint
+        // (each is cleared and drawn whole), and a texel is drawn once.
+        for (size_t k = 0; k < parts.size();) {
+            if (parts[k].overlaps(part)) {
+                part = bounding(part, parts[k]);
+                parts.erase(parts.begin() + std::ptrdiff_t(k));
+                k = 0;
+            } else {
+                ++k;
+            }
+        }
+        parts.push_back(part);
+    };
     for (size_t i = 0; i < casters.size(); ++i) {
         const CasterKey& a = drawnCasters_[i];
         const CasterKey& b = casters[i];
@@ -434,15 +450,26 @@ ShadowPass::Redraw ShadowPass::compareMap(const LightFit& fit, const std::vector
             return Redraw::All;
         if (a.poseGeneration == b.poseGeneration)
             continue;
-        // Posed where it stands (an animation): its depth changes where it was and where it is.
+        // Posed where it stands (an animation): its depth changes where it was and where it is;
+        // posed by its nodes alone, only where the primitives whose nodes moved were and are.
         posed = true;
-        part = bounding(part, bounding(texelsOf(a.low, a.high), texelsOf(b.low, b.high)));
+        if (!a.primitivePoses.empty() && a.primitivePoses.size() == b.primitivePoses.size()) {
+            for (size_t p = 0; p < a.primitivePoses.size(); ++p)
+                if (a.primitivePoses[p] != b.primitivePoses[p])
+                    add(bounding(texelsOf(a.primitiveBoxes[p].first, a.primitiveBoxes[p].second),
+                                 texelsOf(b.primitiveBoxes[p].first, b.primitiveBoxes[p].second)));
+        } else {
+            add(bounding(texelsOf(a.low, a.high), texelsOf(b.low, b.high)));
+        }
     }
     if (!posed)
         return Redraw::None;
     // Most of the map: drawn whole (no scissor, one clear).
     constexpr double kWholeShare = 0.5;
-    if (part.area() > kWholeShare * size_ * size_)
+    double area = 0.0;
+    for (const PixelRect& part : parts)
+        area += part.area();
+    if (area > kWholeShare * size_ * size_)
         return Redraw::All;
     return Redraw::Part;
 }
@@ -460,6 +487,41 @@ PixelRect ShadowPass::texelsOf(const glm::dvec2& low, const glm::dvec2& high) co
             clamp(std::floor(texel(low.y, fit_.centre.y) - kMarginTexels)),
             clamp(std::ceil(texel(high.x, fit_.centre.x) + kMarginTexels)),
             clamp(std::ceil(texel(high.y, fit_.centre.y) + kMarginTexels))};
+}
+
+bool ShadowPass::posedRigidly(const GpuModel& model)
+{
+    if (!model.pose)
+        return false;
+    for (const GpuPrimitive& primitive : model.primitives)
+        if (model.pose->poser.deforms(primitive.source))
+            return false;
+    return true;
+}
+
+void ShadowPass::describePrimitives(const GpuModel& model, const glm::dmat4& lightViewFromModel, CasterKey& key)
+{
+    size_t sources = 0;
+    for (const GpuPrimitive& primitive : model.primitives)
+        sources = std::max(sources, primitive.source + 1);
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    key.primitivePoses.assign(sources, glm::dmat4(1.0));
+    key.primitiveBoxes.assign(sources, {glm::dvec2(inf), glm::dvec2(-inf)});
+    for (const GpuPrimitive& primitive : model.primitives) {
+        key.primitivePoses[primitive.source] = primitive.modelFromMesh;
+        auto& [low, high] = key.primitiveBoxes[primitive.source];
+        const glm::dmat4 lightViewFromMesh = lightViewFromModel * primitive.modelFromMesh;
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 local((corner & 1) ? primitive.boundsMax.x : primitive.boundsMin.x,
+                                   (corner & 2) ? primitive.boundsMax.y : primitive.boundsMin.y,
+                                   (corner & 4) ? primitive.boundsMax.z : primitive.boundsMin.z);
+            const glm::dvec3 p(lightViewFromMesh * glm::dvec4(local, 1.0));
+            if (!finite(p))
+                continue;
+            low = glm::min(low, glm::dvec2(p));
+            high = glm::max(high, glm::dvec2(p));
+        }
+    }
 }
 
 bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
@@ -495,14 +557,17 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
             itemHigh = glm::max(itemHigh, p);
         }
         if (isCaster(item)) {
+            const GpuModel& model = models[size_t(item.model)];
             CasterKey& key = casters.emplace_back();
             key.model = item.model;
-            key.poseGeneration = models[size_t(item.model)].poseGeneration;
+            key.poseGeneration = model.poseGeneration;
             key.stableFromModel = stableFromCamera * item.cameraFromModel;
             if (itemLow.x <= itemHigh.x) {
                 key.low = glm::dvec2(itemLow);
                 key.high = glm::dvec2(itemHigh);
             }
+            if (posedRigidly(model))
+                describePrimitives(model, lightViewFromCamera * item.cameraFromModel, key);
         }
         if (!(itemLow.x <= itemHigh.x))
             continue;
@@ -619,6 +684,11 @@ void ShadowPass::drawCasters(const std::vector<GpuModel>& models, std::span<cons
         const double scale = std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
         const double texels = scale * std::max({extent.x, extent.y, extent.z}) / fit_.texelMetres;
         for (const GpuPrimitive& primitive : proxyLevelFor(model, texels).primitives) {
+            // A part: only the primitives that reach into it, where their boxes are known.
+            if (part && primitive.source < key.primitiveBoxes.size() &&
+                !texelsOf(key.primitiveBoxes[primitive.source].first, key.primitiveBoxes[primitive.source].second)
+                     .overlaps(*part))
+                continue;
             // The light's "camera" frame here is the stable frame (fit_.lightClipFromStable).
             const glm::mat4 cameraFromMesh(key.stableFromModel * primitive.modelFromMesh);
             const GpuMaterial& material = model.materials[primitive.material];

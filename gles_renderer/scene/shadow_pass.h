@@ -135,23 +135,36 @@ private:
         // Its box's extent across the light (light view x and y; empty when not finite).
         glm::dvec2 low{std::numeric_limits<double>::infinity()};
         glm::dvec2 high{-std::numeric_limits<double>::infinity()};
+        // A model posed by node transforms alone (GpuModel::pose, nothing deforms): each of
+        // its primitives' pose and box across the light, by GpuPrimitive::source. A new pose
+        // then draws again only where the primitives it moved were and are (a truck's wheels,
+        // not the truck). Empty for other models: their whole box.
+        std::vector<glm::dmat4> primitivePoses;
+        std::vector<std::pair<glm::dvec2, glm::dvec2>> primitiveBoxes;
     };
+    // Whether `model` is animated by its nodes' transforms alone (no skin or morph target
+    // deforms a primitive): CasterKey's per-primitive poses and boxes then describe it.
+    [[nodiscard]] static bool posedRigidly(const GpuModel& model);
+    // `key`'s per-primitive poses and boxes across the light (light view x and y).
+    static void describePrimitives(const GpuModel& model, const glm::dmat4& lightViewFromModel, CasterKey& key);
     // Fits the light's camera to `items`' casters (and receivers in depth), given in the stable
     // frame by `stableFromCamera`, and describes each caster (in `items`' order); false when
     // there is nothing to cast a shadow.
     bool fitLightCamera(const std::vector<GpuModel>& models, std::span<const DrawItem> items,
                         const glm::dmat4& stableFromCamera, LightFit& fit, std::vector<CasterKey>& casters) const;
     // What of the map drawn (fit_, drawnCasters_) differs from the one `fit` and `casters`
-    // would draw: nothing, the texels of `part` (where animated casters were and are: only
-    // their poses changed), or all.
+    // would draw: nothing, the texels of `parts` (disjoint; where animated casters, or the
+    // primitives their nodes moved, were and are: only their poses changed), or all.
     enum class Redraw { None, Part, All };
-    [[nodiscard]] Redraw compareMap(const LightFit& fit, const std::vector<CasterKey>& casters, PixelRect& part) const;
+    [[nodiscard]] Redraw compareMap(const LightFit& fit, const std::vector<CasterKey>& casters,
+                                    std::vector<PixelRect>& parts) const;
     // The map's texels (with a margin) that the light view rectangle [low, high] touches.
     [[nodiscard]] PixelRect texelsOf(const glm::dvec2& low, const glm::dvec2& high) const;
     void linkDepthProgram();
     void linkReceiverPrograms();
     // Draws the map from fit_ and drawnCasters_: whole, or (`part` not null) only the texels of
-    // `part`, cleared and drawn again from the casters that reach into it.
+    // `part`, cleared and drawn again from the casters (and where known, their primitives)
+    // that reach into it.
     void drawCasters(const std::vector<GpuModel>& models, std::span<const DrawItem> items, const PixelRect* part) const;
     // Works out this frame's occluders (occluders_, reachBoxes_).
     void setOccluders(const std::vector<GpuModel>& models, std::span<const DrawItem> items);
@@ -176,6 +189,7 @@ private:
     // drawnLightDirection_ (environment frame).
     LightFit fit_;
     std::vector<CasterKey> drawnCasters_;
+    std::vector<PixelRect> parts_; // compareMap's, kept: no allocation a frame
     glm::dvec3 drawnLightDirection_{0.0};
     bool drawn_ = false;
     // This frame's, compared with those (kept to reuse their storage).
