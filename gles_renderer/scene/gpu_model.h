@@ -57,9 +57,9 @@ struct GpuMaterial {
 
 struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};
-    GlBuffer vertices;      // interleaved position, normal, uv, tangent
-    GlBuffer extras;        // interleaved colour, uv1 where the primitive has either (else empty)
-    glm::vec3 centre{0.0f}; // of its bounding box, mesh space: blended primitives' draw order
+    GlBuffer vertices;                          // interleaved position, normal, uv, tangent
+    GlBuffer extras;                            // interleaved colour, uv1 where the primitive has either (else empty)
+    glm::vec3 centre{0.0f};                     // of its bounding box, mesh space: blended primitives' draw order
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // its bounding box, mesh space (rest pose)
     GlBuffer indices;
     GlVertexArray vertexArray;
