@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -282,6 +283,27 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial, siz
     return primitive;
 }
 
+// Appends to `levels` the model simplified at each of `cellCounts` (finest first) that draws at
+// least `minSaving` of the triangles fewer than the level kept before it, or than `triangles`
+// before the first.
+void appendLevels(const GltfModel& model, std::span<const int> cellCounts, double minSaving, size_t triangles,
+                  size_t defaultMaterial, std::vector<GpuModel::ProxyLevel>& levels)
+{
+    for (const int cells : cellCounts) {
+        const std::vector<GltfPrimitive> simplified = makeProxyPrimitives(model, cells);
+        const size_t count = triangleCount(simplified);
+        if (double(count) > (1.0 - minSaving) * double(triangles))
+            continue;
+        triangles = count;
+        GpuModel::ProxyLevel& level = levels.emplace_back();
+        level.cells = cells;
+        // makeProxyPrimitives keeps the primitives' order: animation finds each one's source by it.
+        for (size_t p = 0; p < simplified.size(); ++p)
+            if (!simplified[p].indices.empty())
+                level.primitives.push_back(uploadPrimitive(simplified[p], defaultMaterial, p, GL_STATIC_DRAW));
+    }
+}
+
 } // namespace
 
 GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, int textureLimit)
@@ -357,37 +379,14 @@ GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, in
         checkGlError("uploading a model");
         return gpu;
     }
-    // The frame's levels: kept where they save triangles (the shipped roadster: 9,616 -> 6,882
-    // at 4096 cells and 6,281 at 1024; a sphere or the milk truck save under 5 % and keep
-    // none).
-    size_t frameTriangles = triangleCount(model.primitives);
-    for (const int cells : kFrameLevelCells) {
-        const std::vector<GltfPrimitive> level = makeProxyPrimitives(model, cells);
-        const size_t triangles = triangleCount(level);
-        if (double(triangles) > (1.0 - kFrameLevelMinTriangleSaving) * double(frameTriangles))
-            continue;
-        frameTriangles = triangles;
-        GpuModel::ProxyLevel& kept = gpu.frameLevels.emplace_back();
-        kept.cells = cells;
-        // In the model's primitive order, as the stand-ins (animation poses them by source).
-        for (size_t p = 0; p < level.size(); ++p)
-            if (!level[p].indices.empty())
-                kept.primitives.push_back(uploadPrimitive(level[p], defaultMaterial, p, GL_STATIC_DRAW));
-    }
-    size_t keptTriangles = 0;
-    for (const int cells : kProxyLevelCells) {
-        const std::vector<GltfPrimitive> proxy = makeProxyPrimitives(model, cells);
-        const size_t triangles = triangleCount(proxy);
-        if (!gpu.proxyLevels.empty() && double(triangles) > (1.0 - kProxyMinTriangleSaving) * double(keptTriangles))
-            continue;
-        keptTriangles = triangles;
-        GpuModel::ProxyLevel& level = gpu.proxyLevels.emplace_back();
-        level.cells = cells;
-        // makeProxyPrimitives keeps the primitives' order: animation finds each one's source by it.
-        for (size_t p = 0; p < proxy.size(); ++p)
-            if (!proxy[p].indices.empty())
-                level.primitives.push_back(uploadPrimitive(proxy[p], defaultMaterial, p, GL_STATIC_DRAW));
-    }
+    // The frame's levels: kept where they save triangles against the model itself and the
+    // level before (the shipped roadster: 9,616 -> 6,882 at 4096 cells and 6,281 at 1024; a
+    // sphere or the milk truck save under 5 % and keep none).
+    appendLevels(model, kFrameLevelCells, kFrameLevelMinTriangleSaving, triangleCount(model.primitives),
+                 defaultMaterial, gpu.frameLevels);
+    // The stand-ins: the finest always.
+    appendLevels(model, kProxyLevelCells, kProxyMinTriangleSaving, std::numeric_limits<size_t>::max(), defaultMaterial,
+                 gpu.proxyLevels);
     checkGlError("uploading a model");
     return gpu;
 }

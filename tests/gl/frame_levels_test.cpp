@@ -90,18 +90,8 @@ TEST(FrameLevels, TheChosenLevelDrawsTheImageOfTheFullMesh)
     pipeline.updateDerivedMaps(colours);
     const std::vector<const IblMaps*> lighting = {&colours};
 
-    GlTexture colour = GlTexture::create();
-    glBindTexture(GL_TEXTURE_2D, colour.name());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kWidth, kHeight);
-    GlRenderbuffer depth = GlRenderbuffer::create();
-    glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kWidth, kHeight);
-    GlFramebuffer framebuffer = GlFramebuffer::create();
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
-    glViewport(0, 0, kWidth, kHeight);
+    const test::FrameTarget target(kWidth, kHeight);
+    ASSERT_TRUE(target.complete());
 
     constexpr double kFocal = 600.0;
     const CameraIntrinsics intrinsics = test::makeIntrinsics(kWidth, kHeight, kFocal, kFocal, 319.5, 239.5);

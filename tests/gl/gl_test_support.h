@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include <GLES3/gl3.h>
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
@@ -17,9 +18,34 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "gles_renderer/assets/gltf_model.h"
+#include "gles_renderer/gl/gl_object.h"
 #include "gles_renderer/scene/scene_renderer.h"
 
 namespace lumar::test {
+
+// A width x height RGBA8 frame with a depth buffer, bound for drawing (its viewport set) and
+// cleared to black; for tests that draw a MeshPass into a frame of their own. Needs a context.
+struct FrameTarget {
+    GlTexture colour = GlTexture::create();
+    GlRenderbuffer depth = GlRenderbuffer::create();
+    GlFramebuffer framebuffer = GlFramebuffer::create();
+
+    FrameTarget(int width, int height)
+    {
+        glBindTexture(GL_TEXTURE_2D, colour.name());
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, width, height);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
+        glViewport(0, 0, width, height);
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+
+    [[nodiscard]] static bool complete() { return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE; }
+};
 
 // The renderer, or the reason there is none (a machine without EGL/GLES 3: the caller skips).
 struct RendererOrReason {

@@ -33,29 +33,6 @@ GltfModel lamp()
     return model;
 }
 
-// A kSize² RGBA8 frame with a depth buffer, bound for drawing and cleared to black.
-struct FrameTarget {
-    GlTexture colour = GlTexture::create();
-    GlRenderbuffer depth = GlRenderbuffer::create();
-    GlFramebuffer framebuffer = GlFramebuffer::create();
-
-    FrameTarget()
-    {
-        glBindTexture(GL_TEXTURE_2D, colour.name());
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, kSize, kSize);
-        glBindRenderbuffer(GL_RENDERBUFFER, depth.name());
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kSize, kSize);
-        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.name());
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.name(), 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth.name());
-        glViewport(0, 0, kSize, kSize);
-        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    }
-
-    [[nodiscard]] static bool complete() { return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE; }
-};
-
 TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEncoding)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize); // for its GL context
@@ -95,7 +72,7 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
     EXPECT_NEAR(plusX.data[centre + 1], 0.0f, 0.01f);
 
     // The frame: an RGBA8 target, the lamp 0.5 m ahead filling its middle.
-    const FrameTarget target;
+    const test::FrameTarget target(kSize, kSize);
     ASSERT_TRUE(target.complete());
     const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
     FrameUniforms frame;
@@ -134,7 +111,7 @@ TEST(MeshVariants, APrimitiveWithoutVertexColoursReadsWhiteFromItsOwnVariant)
     IblMaps maps = pipeline.createMaps();
     const std::vector<const IblMaps*> lighting = {&maps};
 
-    const FrameTarget target;
+    const test::FrameTarget target(kSize, kSize);
     ASSERT_TRUE(target.complete());
     const CameraIntrinsics intrinsics = test::makeIntrinsics(kSize, kSize, 40, 40, 15.5, 15.5);
     FrameUniforms frame;
