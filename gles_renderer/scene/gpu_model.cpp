@@ -262,7 +262,6 @@ GpuPrimitive uploadPrimitive(const GltfPrimitive& p, size_t defaultMaterial, siz
             lo = glm::min(lo, position);
             hi = glm::max(hi, position);
         }
-        primitive.centre = 0.5f * (lo + hi);
         primitive.boundsMin = lo;
         primitive.boundsMax = hi;
     }
@@ -423,16 +422,19 @@ EnvironmentMapReads environmentMapReads(const GpuModel& model)
     return reads;
 }
 
-std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform)
+std::array<glm::dvec3, 8> boxCorners(const glm::vec3& low, const glm::vec3& high, const glm::dmat4& transform)
 {
     std::array<glm::dvec3, 8> corners;
     for (int i = 0; i < 8; ++i) {
-        const glm::dvec3 local((i & 1) ? model.boundsMax.x : model.boundsMin.x,
-                               (i & 2) ? model.boundsMax.y : model.boundsMin.y,
-                               (i & 4) ? model.boundsMax.z : model.boundsMin.z);
+        const glm::dvec3 local((i & 1) ? high.x : low.x, (i & 2) ? high.y : low.y, (i & 4) ? high.z : low.z);
         corners[size_t(i)] = glm::dvec3(transform * glm::dvec4(local, 1.0));
     }
     return corners;
+}
+
+std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform)
+{
+    return boxCorners(model.boundsMin, model.boundsMax, transform);
 }
 
 const std::vector<GpuPrimitive>& framePrimitivesFor(const GpuModel& model, double modelPixels)

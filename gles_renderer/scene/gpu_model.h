@@ -59,7 +59,6 @@ struct GpuPrimitive {
     glm::dmat4 modelFromMesh{1.0};
     GlBuffer vertices;                          // interleaved position, normal, uv, tangent
     GlBuffer extras;                            // interleaved colour, uv1 where the primitive has either (else empty)
-    glm::vec3 centre{0.0f};                     // of its bounding box, mesh space: blended primitives' draw order
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f}; // its bounding box, mesh space (rest pose)
     GlBuffer indices;
     GlVertexArray vertexArray;
@@ -83,7 +82,7 @@ struct GpuModel {
         std::vector<GpuPrimitive> primitives;
     };
     std::vector<ProxyLevel> proxyLevels; // finest first; never empty after uploadModel
-    // The model simplified far below a pixel of the frame (frameLevelFor): flat stretches
+    // The model simplified far below a pixel of the frame (framePrimitivesFor): flat stretches
     // a modeller subdivided drawn as fewer, larger triangles. Finest first; empty where no
     // level saves enough triangles (kFrameLevelMinTriangleSaving), and for deforming models.
     std::vector<ProxyLevel> frameLevels;
@@ -147,9 +146,10 @@ struct EnvironmentMapReads {
 };
 [[nodiscard]] EnvironmentMapReads environmentMapReads(const GpuModel& model);
 
-// The eight corners of `model`'s bounding box (boundsMin, boundsMax), each mapped by the
-// affine `transform` (e.g. cameraFromModel): corner i takes boundsMax's x, y, z where bits 0,
-// 1, 2 of i are set.
+// The eight corners of the box [low, high], each mapped by the affine `transform`: corner i
+// takes high's x, y, z where bits 0, 1, 2 of i are set.
+std::array<glm::dvec3, 8> boxCorners(const glm::vec3& low, const glm::vec3& high, const glm::dmat4& transform);
+// boxCorners of `model`'s bounding box (boundsMin, boundsMax), e.g. by cameraFromModel.
 std::array<glm::dvec3, 8> boundsCorners(const GpuModel& model, const glm::dmat4& transform);
 
 // Checks every size and index of `model` (InputError "FILE: what is wrong") and uploads it.

@@ -325,7 +325,8 @@ void MeshPass::drawItem(const DrawItem& item, const IblMaps* maps, const std::ve
         // already be drawn for the frame to be sorted.
         if (blended != nullptr && isTransparent(material)) {
             const glm::dvec4 centre =
-                item.cameraFromModel * primitive.modelFromMesh * glm::dvec4(glm::dvec3(primitive.centre), 1.0);
+                item.cameraFromModel * primitive.modelFromMesh *
+                glm::dvec4(0.5 * (glm::dvec3(primitive.boundsMin) + glm::dvec3(primitive.boundsMax)), 1.0);
             blended->push_back({centre.z, itemIndex, &primitive});
             continue;
         }

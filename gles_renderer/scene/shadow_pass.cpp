@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -70,6 +71,22 @@ bool setFrontFaceFor(const glm::dmat4& cameraFromMesh)
 bool finite(const glm::dvec3& v)
 {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The box round `corners` mapped by `transform`, the corners that map to a finite point alone
+// (empty, low above high, where none does).
+std::pair<glm::dvec3, glm::dvec3> extentOf(const std::array<glm::dvec3, 8>& corners, const glm::dmat4& transform)
+{
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    glm::dvec3 low(inf), high(-inf);
+    for (const glm::dvec3& corner : corners) {
+        const glm::dvec3 p(transform * glm::dvec4(corner, 1.0));
+        if (!finite(p))
+            continue;
+        low = glm::min(low, p);
+        high = glm::max(high, p);
+    }
+    return {low, high};
 }
 
 // The part of the convex polygon `polygon` (a face's (u, v) coordinates) inside the face's
@@ -489,16 +506,6 @@ PixelRect ShadowPass::texelsOf(const glm::dvec2& low, const glm::dvec2& high) co
             clamp(std::ceil(texel(high.y, fit_.centre.y) + kMarginTexels))};
 }
 
-bool ShadowPass::posedRigidly(const GpuModel& model)
-{
-    if (!model.pose)
-        return false;
-    for (const GpuPrimitive& primitive : model.primitives)
-        if (model.pose->poser.deforms(primitive.source))
-            return false;
-    return true;
-}
-
 void ShadowPass::describePrimitives(const GpuModel& model, const glm::dmat4& lightViewFromModel, CasterKey& key)
 {
     size_t sources = 0;
@@ -509,18 +516,9 @@ void ShadowPass::describePrimitives(const GpuModel& model, const glm::dmat4& lig
     key.primitiveBoxes.assign(sources, {glm::dvec2(inf), glm::dvec2(-inf)});
     for (const GpuPrimitive& primitive : model.primitives) {
         key.primitivePoses[primitive.source] = primitive.modelFromMesh;
-        auto& [low, high] = key.primitiveBoxes[primitive.source];
-        const glm::dmat4 lightViewFromMesh = lightViewFromModel * primitive.modelFromMesh;
-        for (int corner = 0; corner < 8; ++corner) {
-            const glm::dvec3 local((corner & 1) ? primitive.boundsMax.x : primitive.boundsMin.x,
-                                   (corner & 2) ? primitive.boundsMax.y : primitive.boundsMin.y,
-                                   (corner & 4) ? primitive.boundsMax.z : primitive.boundsMin.z);
-            const glm::dvec3 p(lightViewFromMesh * glm::dvec4(local, 1.0));
-            if (!finite(p))
-                continue;
-            low = glm::min(low, glm::dvec2(p));
-            high = glm::max(high, glm::dvec2(p));
-        }
+        const auto [low, high] =
+            extentOf(boxCorners(primitive.boundsMin, primitive.boundsMax, primitive.modelFromMesh), lightViewFromModel);
+        key.primitiveBoxes[primitive.source] = {glm::dvec2(low), glm::dvec2(high)};
     }
 }
 
@@ -548,14 +546,8 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
     fit.prisms.clear();
     casters.clear();
     for (const DrawItem& item : items) {
-        glm::dvec3 itemLow(inf), itemHigh(-inf);
-        for (const glm::dvec3& corner : boundsCorners(models[size_t(item.model)], item.cameraFromModel)) {
-            const glm::dvec3 p(lightViewFromCamera * glm::dvec4(corner, 1.0));
-            if (!finite(p))
-                continue;
-            itemLow = glm::min(itemLow, p);
-            itemHigh = glm::max(itemHigh, p);
-        }
+        const auto [itemLow, itemHigh] =
+            extentOf(boundsCorners(models[size_t(item.model)], item.cameraFromModel), lightViewFromCamera);
         if (isCaster(item)) {
             const GpuModel& model = models[size_t(item.model)];
             CasterKey& key = casters.emplace_back();
@@ -566,7 +558,8 @@ bool ShadowPass::fitLightCamera(const std::vector<GpuModel>& models, std::span<c
                 key.low = glm::dvec2(itemLow);
                 key.high = glm::dvec2(itemHigh);
             }
-            if (posedRigidly(model))
+            // Posed by its nodes alone (nothing skinned or morphed): described by primitive.
+            if (model.pose && !model.pose->poser.rig().deforms())
                 describePrimitives(model, lightViewFromCamera * item.cameraFromModel, key);
         }
         if (!(itemLow.x <= itemHigh.x))

@@ -142,10 +142,8 @@ private:
         std::vector<glm::dmat4> primitivePoses;
         std::vector<std::pair<glm::dvec2, glm::dvec2>> primitiveBoxes;
     };
-    // Whether `model` is animated by its nodes' transforms alone (no skin or morph target
-    // deforms a primitive): CasterKey's per-primitive poses and boxes then describe it.
-    [[nodiscard]] static bool posedRigidly(const GpuModel& model);
-    // `key`'s per-primitive poses and boxes across the light (light view x and y).
+    // `key`'s per-primitive poses and boxes across the light (light view x and y), for a model
+    // posed by its nodes' transforms alone (no skin or morph target deforms a primitive).
     static void describePrimitives(const GpuModel& model, const glm::dmat4& lightViewFromModel, CasterKey& key);
     // Fits the light's camera to `items`' casters (and receivers in depth), given in the stable
     // frame by `stableFromCamera`, and describes each caster (in `items`' order); false when
