@@ -93,7 +93,15 @@ public:
     // darkening 3.9 (half of it its shader), the depth 0.3, applying 4.6 over the ~400,000
     // pixels of the darkening's tiles, three quarters of which the darkening reaches (so a
     // tighter cover saves little there); the shader's own share of it is small, the pass is
-    // the pixels' rasterisation, depth and blend.
+    // the pixels' rasterisation, depth and blend. Measured and not taken (2026-12-05, car.toml
+    // with bloom, replay, interleaved): multiplying the darkening into the camera image on the
+    // CPU as it is uploaded, instead of the apply pass (the buffer read back, the silhouette
+    // of the one convex phantom for its coverage, the image expanded and darkened on two
+    // threads; 14,888 pixels off by one code value, none by more). The pass's ~4 ms of
+    // rasteriser CPU went, but the multiplication cost ~1.7 ms and the readback is a wait for
+    // everything queued: where the wait came early in the frame the rasteriser's threads
+    // idled through the darkening's 15 tiles (33.6/32.4/33.1 -> 33.1/32.2/33.2 fps), placed
+    // after the environment maps 33.1/33.1/33.3 -> 31.4/31.1/31.1 fps.
 
 private:
     // The darkening, shaded at a fraction of the frame's resolution: an RGBA8 texture, red
