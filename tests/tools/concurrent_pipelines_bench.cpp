@@ -1,0 +1,107 @@
+// concurrent_pipelines_bench: how many frames a second one process renders with one pipeline
+// against two pipelines on two threads (each its own GL context on the process' one EGL
+// display), the same configuration replayed (as `lumar bench --replay`). On a software
+// rasteriser one pipeline leaves cores idle while its passes wait for each other; the second
+// pipeline's frames show how much of that a second context in flight could fill (issue 18:
+// the ceiling for rendering a frame's environment maps on a context of their own while the
+// previous frame is shaded).
+//
+//   concurrent_pipelines_bench CONFIG [FRAMES] [ROUNDS]
+//
+// Prints, per round, frames per second alone and together (the sum of both pipelines').
+//
+// car.toml with bloom on llvmpipe 22.3, 2 cores (2026-12-05): together 32.7-33.5 fps against
+// 27.7-31.2 alone, +6 to +21 % in 3 rounds. Two `lumar bench --replay` processes side by side
+// made 38.9-42.7 fps together against 30.5-32.8 for one alone (+19 to +40 %, each ~50 ms of
+// CPU a frame either way): a process' contexts share one llvmpipe screen, whose rasteriser
+// takes their scenes from one queue, so most of the idle is out of a second context's reach.
+#include <barrier>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "app/pipeline.h"
+#include "config/config.h"
+
+namespace {
+
+// Frames a second of `frames` steps of `pipeline`.
+double run(lumar::Pipeline& pipeline, long frames)
+{
+    lumar::FrameReport report;
+    const auto start = std::chrono::steady_clock::now();
+    for (long i = 0; i < frames; ++i)
+        if (!pipeline.step(report))
+            throw std::runtime_error("the camera source ended");
+    return double(frames) / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: concurrent_pipelines_bench CONFIG [FRAMES] [ROUNDS]\n");
+        return 2;
+    }
+    try {
+        const lumar::Config config = lumar::loadConfig(argv[1]);
+        const long frames = argc > 2 ? std::atol(argv[2]) : 200;
+        const int rounds = argc > 3 ? std::atoi(argv[3]) : 3;
+        constexpr int kReplayFrames = 4;
+        lumar::Pipeline first(config, false, nullptr, kReplayFrames);
+        first.detectInBackground();
+        run(first, 10); // warm-up: programs linked, maps built
+        // The second pipeline lives on a thread of its own, made, stepped and destroyed there
+        // (its context is current on that thread), in step with this one: a round's second
+        // half runs both.
+        std::barrier sync(2);
+        std::vector<double> together(size_t(rounds), 0.0);
+        std::exception_ptr failure;
+        std::thread other([&] {
+            std::optional<lumar::Pipeline> second;
+            try {
+                second.emplace(config, false, nullptr, kReplayFrames);
+                second->detectInBackground();
+                run(*second, 10);
+            } catch (...) {
+                failure = std::current_exception();
+            }
+            for (int round = 0; round < rounds; ++round) {
+                sync.arrive_and_wait(); // `first` alone is done
+                if (!failure) {
+                    try {
+                        together[size_t(round)] = run(*second, frames);
+                    } catch (...) {
+                        failure = std::current_exception();
+                    }
+                }
+                sync.arrive_and_wait();
+            }
+        });
+        for (int round = 0; round < rounds; ++round) {
+            const double alone = run(first, frames);
+            sync.arrive_and_wait();
+            const double a = run(first, frames);
+            sync.arrive_and_wait();
+            if (failure)
+                break;
+            const double b = together[size_t(round)];
+            std::printf("round %d: alone %.2f fps, together %.2f + %.2f = %.2f fps (%+.0f %%)\n", round + 1, alone, a,
+                        b, a + b, 100.0 * ((a + b) / alone - 1.0));
+            std::fflush(stdout);
+        }
+        other.join();
+        if (failure)
+            std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "concurrent_pipelines_bench: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
