@@ -116,7 +116,10 @@ run() {
   local lumar=$work/lumar
   export LD_LIBRARY_PATH=$work/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
   mkdir -p "$out"
-  "$lumar" probe 2>&1 | sed -n '/^EGL/,$p' | tee "$out/probe.txt"
+  # What renders here: the EGL platform, GL's renderer and extensions (a failed probe still
+  # leaves the benches to say more).
+  "$lumar" probe >"$work/probe.txt" 2>&1 || echo "gpu-bench: lumar probe failed ($?)"
+  sed -n '/^EGL/,$p' "$work/probe.txt" | tee "$out/probe.txt"
   local frames=${FRAMES:-600}
   for size in 1280x720 1920x1080; do
     local width=${size%x*} height=${size#*x}
@@ -125,8 +128,9 @@ run() {
       local name=car_${size}_lens-$lens
       write_config "$width" "$height" "$lens" "$work/calibration_$size.yaml" "$work/$name.toml"
       echo "== $name ($frames frames, replay)"
+      # One run failing (a driver's limit at one size, say) leaves the others to run.
       "$lumar" bench --config "$work/$name.toml" --replay --frames "$frames" --no-profile --json \
-        --log-level warn >"$out/$name.json"
+        --log-level warn >"$out/$name.json" || { echo "gpu-bench: $name failed ($?)"; rm -f "$out/$name.json"; }
     done
   done
   python3 - "$out" <<'EOF'
