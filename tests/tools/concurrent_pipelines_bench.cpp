@@ -65,38 +65,43 @@ int main(int argc, char** argv)
         run(first, 10); // warm-up: programs linked, maps built
         // The second pipeline lives on a thread of its own, made, stepped and destroyed there
         // (its context is current on that thread), in step with this one: a round's second
-        // half runs both.
+        // half runs both. Both threads pass every barrier whatever fails (the other would wait
+        // at it for ever); a failure stops the runs and is rethrown once both are done.
         std::barrier sync(2);
         std::vector<double> together(size_t(rounds), 0.0);
-        std::exception_ptr failure;
+        std::exception_ptr failure, otherFailure; // each written by its own thread alone
+        const auto attempt = [](std::exception_ptr& failed, const auto& work) {
+            if (failed)
+                return;
+            try {
+                work();
+            } catch (...) {
+                failed = std::current_exception();
+            }
+        };
         std::thread other([&] {
             std::optional<lumar::Pipeline> second;
-            try {
+            attempt(otherFailure, [&] {
                 second.emplace(config, false, nullptr, kReplayFrames);
                 second->detectInBackground();
                 run(*second, 10);
-            } catch (...) {
-                failure = std::current_exception();
-            }
+            });
+            sync.arrive_and_wait(); // both warmed up
             for (int round = 0; round < rounds; ++round) {
                 sync.arrive_and_wait(); // `first` alone is done
-                if (!failure) {
-                    try {
-                        together[size_t(round)] = run(*second, frames);
-                    } catch (...) {
-                        failure = std::current_exception();
-                    }
-                }
+                attempt(otherFailure, [&] { together[size_t(round)] = run(*second, frames); });
                 sync.arrive_and_wait();
             }
         });
+        sync.arrive_and_wait();
         for (int round = 0; round < rounds; ++round) {
-            const double alone = run(first, frames);
+            double alone = 0.0, a = 0.0;
+            attempt(failure, [&] { alone = run(first, frames); });
             sync.arrive_and_wait();
-            const double a = run(first, frames);
-            sync.arrive_and_wait();
-            if (failure)
-                break;
+            attempt(failure, [&] { a = run(first, frames); });
+            sync.arrive_and_wait(); // `together` and `otherFailure` written before it
+            if (failure || otherFailure)
+                continue;
             const double b = together[size_t(round)];
             std::printf("round %d: alone %.2f fps, together %.2f + %.2f = %.2f fps (%+.0f %%)\n", round + 1, alone, a,
                         b, a + b, 100.0 * ((a + b) / alone - 1.0));
@@ -105,6 +110,8 @@ int main(int argc, char** argv)
         other.join();
         if (failure)
             std::rethrow_exception(failure);
+        if (otherFailure)
+            std::rethrow_exception(otherFailure);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "concurrent_pipelines_bench: %s\n", e.what());
         return 1;
