@@ -14,7 +14,6 @@
 #include "gles_renderer/gl/egl_context.h"
 #include "gles_renderer/gl/frame_readback.h"
 #include "gles_renderer/gl/gl_check.h"
-#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/render_target.h"
 #include "gles_renderer/gl/window_target.h"
 #include "gles_renderer/ibl_gpu/environment_lighting.h"
@@ -65,8 +64,7 @@ class GlesSceneRenderer final : public SceneRenderer {
 public:
     GlesSceneRenderer(int width, int height, const RenderOptions& options)
         : context_(makeContext(options.display)), width_(width), height_(height),
-          target_(width, height, options.samples), defaults_{makeSolidTexture(255, 255, 255, 255),
-                                                             makeSolidTexture(128, 128, 255, 255)},
+          target_(width, height, options.samples), defaults_(makeDefaultTextures()),
           environment_(options.environmentMaps.ibl.mirrorSize), readback_(target_.readFramebuffer(), width, height),
           probes_(options.environmentMaps), shadows_(options.shadows),
           cameraPhantoms_(options.environmentMaps.dynamic && options.environmentMaps.phantomsShowCamera),

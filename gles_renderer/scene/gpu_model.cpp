@@ -305,6 +305,11 @@ void appendLevels(const GltfModel& model, std::span<const int> cellCounts, doubl
 
 } // namespace
 
+DefaultTextures makeDefaultTextures()
+{
+    return {makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+}
+
 GpuModel uploadModel(const GltfModel& model, const DefaultTextures& defaults, int textureLimit)
 {
     // Validate everything before the first upload, so bad input leaves no half-made model.

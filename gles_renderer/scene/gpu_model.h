@@ -22,6 +22,9 @@ struct DefaultTextures {
     GlTexture flatNormal; // tangent-space +z
 };
 
+// The two 1 x 1 textures DefaultTextures holds. Needs a current context.
+[[nodiscard]] DefaultTextures makeDefaultTextures();
+
 struct GpuMaterial {
     GlBuffer uniforms; // a MaterialUniforms block
     // Texture names, owned by the GpuModel or by DefaultTextures.

@@ -11,7 +11,6 @@
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/lafortune_material.h"
-#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/ibl/cube_face_camera.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_projection.h"
@@ -326,7 +325,7 @@ TEST(EnvironmentProbes, OnChangeIgnoresTheCameraAndFollowsTheObjects)
 // Draws items round a probe centre at the origin of the cube frame into a map's six faces,
 // as EnvironmentProbes does, lit by a grey environment (a cleared map). Needs a context.
 struct FaceRig {
-    DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    DefaultTextures defaults = makeDefaultTextures();
     std::vector<GpuModel> gpu;
     IblPipeline pipeline;
     int size = pipeline.settings().mirrorSize;

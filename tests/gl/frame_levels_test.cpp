@@ -12,7 +12,6 @@
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/assets/gltf_model.h"
-#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_projection.h"
 #include "gles_renderer/scene/gpu_model.h"
@@ -38,7 +37,7 @@ TEST(FrameLevels, EachLevelDrawsFewerTrianglesAndTheSizeChoosesOne)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, 16, 16); // for its GL context
     (void)renderer;
-    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    const DefaultTextures defaults = makeDefaultTextures();
     const GpuModel car = uploadModel(roadster(), defaults);
     ASSERT_FALSE(car.frameLevels.empty());
     size_t before = triangles(car.primitives);
@@ -76,7 +75,7 @@ TEST(FrameLevels, TheChosenLevelDrawsTheImageOfTheFullMesh)
     constexpr int kWidth = 640, kHeight = 480;
     LUMAR_RENDERER_OR_SKIP(renderer, 16, 16); // for its GL context
     (void)renderer;
-    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    const DefaultTextures defaults = makeDefaultTextures();
     std::vector<GpuModel> gpu;
     gpu.push_back(uploadModel(roadster(), defaults));
     IblPipeline pipeline;

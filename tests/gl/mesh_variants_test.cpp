@@ -9,7 +9,6 @@
 #include "gl_readback.h"
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
-#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/ibl/cube_face_camera.h"
 #include "gles_renderer/ibl_gpu/ibl_pipeline.h"
 #include "gles_renderer/scene/camera_projection.h"
@@ -37,7 +36,7 @@ TEST(MeshVariants, TheFrameAndTheCubeFacesShareOneProgramAndEachWritesItsOwnEnco
 {
     LUMAR_RENDERER_OR_SKIP(renderer, kSize, kSize); // for its GL context
     (void)renderer;
-    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    const DefaultTextures defaults = makeDefaultTextures();
     std::vector<GpuModel> gpu;
     gpu.push_back(uploadModel(lamp(), defaults));
     IblPipeline pipeline;
@@ -104,7 +103,7 @@ TEST(MeshVariants, APrimitiveWithoutVertexColoursReadsWhiteFromItsOwnVariant)
     GltfModel model = test::cameraFacingRectangle(-0.3f, -0.2f, -0.02f, 0.2f, unlit);
     model.primitives[0].colors.assign(4, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
     model.primitives.push_back(test::cameraFacingRectangle(0.02f, -0.2f, 0.3f, 0.2f, unlit).primitives[0]);
-    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    const DefaultTextures defaults = makeDefaultTextures();
     std::vector<GpuModel> gpu;
     gpu.push_back(uploadModel(model, defaults));
     IblPipeline pipeline;

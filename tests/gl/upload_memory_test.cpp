@@ -13,7 +13,6 @@
 #include "gl_test_support.h"
 #include "gles_renderer/assets/builtin_shapes.h"
 #include "gles_renderer/gl/frame_readback.h"
-#include "gles_renderer/gl/gpu_texture.h"
 #include "gles_renderer/gl/render_target.h"
 #include "gles_renderer/scene/gpu_model.h"
 
@@ -103,7 +102,7 @@ TEST(UploadMemory, TheStandInsCopyNeitherTexturesNorMaterials)
 {
     LUMAR_RENDERER_OR_SKIP(renderer, 16, 16); // for its GL context
     (void)renderer;
-    const DefaultTextures defaults{makeSolidTexture(255, 255, 255, 255), makeSolidTexture(128, 128, 255, 255)};
+    const DefaultTextures defaults = makeDefaultTextures();
     // A dense mesh (stand-ins are simplified from it) with a 1024² base colour: 4 MiB.
     GltfModel model = makeUvSphere(64, 32);
     GltfTexture texture;
