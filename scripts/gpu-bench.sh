@@ -51,10 +51,16 @@ pack() {
     "$(find "$bundle/deb" -name '*.deb' | wc -l) packages)"
 }
 
-# A calibration of lumar's fake camera at WIDTH x HEIGHT: 70 degrees horizontal field of view,
-# the principal point at the centre (as fake_camera_1280x720.yaml at 1280x720).
-write_calibration() {
+# A calibration of lumar's fake camera at WIDTH x HEIGHT: the committed one where there is one
+# (fake_camera_1280x720.yaml), else one made alike at OUT: 70 degrees horizontal field of view,
+# the principal point at the centre. Prints its path.
+calibration_for() {
   local width=$1 height=$2 out=$3
+  local committed=$root/daemon/assets/calibration/fake_camera_${width}x${height}.yaml
+  if [ -f "$committed" ]; then
+    echo "$committed"
+    return
+  fi
   python3 - "$width" "$height" "$out" <<'EOF'
 import math, sys
 w, h, out = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
@@ -75,6 +81,7 @@ distortion_coefficients: !!opencv-matrix
    data: [ 0., 0., 0., 0., 0. ]
 """)
 EOF
+  echo "$out"
 }
 
 # car.toml with absolute paths, at WIDTH x HEIGHT, the lens effects on or off.
@@ -90,7 +97,7 @@ write_config() {
 }
 
 run() {
-  local out=${3:-$root/gpu-bench-out}
+  local out=$1
   [ -f "$bundle/lumar.tar.xz" ] || { echo "gpu-bench: no $bundle/lumar.tar.xz: run 'scripts/gpu-bench.sh pack' first" >&2; exit 2; }
   local work
   work=$(mktemp -d)
@@ -123,10 +130,11 @@ run() {
   local frames=${FRAMES:-600}
   for size in 1280x720 1920x1080; do
     local width=${size%x*} height=${size#*x}
-    write_calibration "$width" "$height" "$work/calibration_$size.yaml"
+    local calibration
+    calibration=$(calibration_for "$width" "$height" "$work/calibration_$size.yaml")
     for lens in off on; do
       local name=car_${size}_lens-$lens
-      write_config "$width" "$height" "$lens" "$work/calibration_$size.yaml" "$work/$name.toml"
+      write_config "$width" "$height" "$lens" "$calibration" "$work/$name.toml"
       echo "== $name ($frames frames, replay)"
       # One run failing (a driver's limit at one size, say) leaves the others to run.
       "$lumar" bench --config "$work/$name.toml" --replay --frames "$frames" --no-profile --json \
@@ -151,6 +159,6 @@ EOF
 
 case "$command" in
   pack) pack ;;
-  run) run "$@" ;;
+  run) run "${3:-$root/gpu-bench-out}" ;;
   *) echo "usage: scripts/gpu-bench.sh pack [BUNDLE] | run [BUNDLE] [OUT]" >&2; exit 2 ;;
 esac
