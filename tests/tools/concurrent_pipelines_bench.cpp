@@ -21,6 +21,18 @@
 // (+33 to +46 %): each display is a screen of its own, with a rasteriser of its own. GL objects
 // cannot be shared between displays, so a renderer built on that would hand its environment
 // maps from one to the other through memory.
+//
+// That renderer was built and measured (2026-12-05, not landed): the maps of frame N drawn on
+// Mesa's software EGL device by a thread of their own while frame N was shaded with frame
+// N-1's, handed over as texels (readback ~0.9 ms, upload ~0.6 ms a frame). car.toml with bloom,
+// replayed, 4 interleaved pairs: 34.2/33.9/32.8/33.1 fps against 33.0/32.2/32.2/35.5 alone
+// (+3 % by the medians), CPU per frame +1 ms (the shadow map drawn on both displays), peak
+// resident memory 123 -> 169 MiB (a second llvmpipe screen, the models twice). Its frames waited
+// 1.7 ms a frame for the maps; the shading itself slowed from ~21 to ~26 ms beside them. One
+// pipeline alone keeps the two cores ~80-85 % busy (~50 ms of CPU a frame at ~32 fps), so the
+// maps moved beside the shading had that idle share to fill, and filled about a fifth of it.
+// Full use of the cores would be ~1.2x one pipeline's frames; the +33 to +46 % above exceeds
+// that, so part of it is this machine's drift between the rounds alone and together.
 #include <barrier>
 #include <chrono>
 #include <cstdio>
