@@ -251,7 +251,7 @@ TEST(Cli, BenchTrackingPrintsATableAndJson)
     EXPECT_NE(table.out.find("| clean | lumar |"), std::string::npos) << table.out;
     EXPECT_NE(table.out.find("| overall | apriltag |"), std::string::npos) << table.out;
     auto withJson = small;
-    withJson.push_back("--json");
+    withJson.emplace_back("--json");
     const auto json = runLumar(withJson, dir);
     ASSERT_EQ(json.exitCode, 0) << json.err;
     const auto j = nlohmann::json::parse(json.out);

@@ -73,6 +73,7 @@ inline pid_t spawnLumar(const std::vector<std::string>& args, const std::filesys
     std::vector<std::string> argv{LUMAR_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
+    cargv.reserve(argv.size() + 1);
     for (auto& a : argv)
         cargv.push_back(a.data());
     cargv.push_back(nullptr);
@@ -121,7 +122,7 @@ private:
 // A fresh, empty directory for one test, removed when the test program ends if it passed.
 inline std::filesystem::path scratchDirectory(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / ("lumar-test-" + name + "-" + std::to_string(::getpid()));
+    auto dir = std::filesystem::temp_directory_path() / ("lumar-test-" + name + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     ScratchDirectories::instance().add(dir);
