@@ -90,10 +90,6 @@ TEST_P(VcamConvert, GpuConversionMatchesCpuConversion)
         EXPECT_NEAR(gpu.at(kWidth * 13 / 16, barsBottom / 2)[2], 191, 2) << file;
         EXPECT_NEAR(gpu.at(kWidth * 13 / 16, barsBottom / 2)[0], 0, 2) << file;
     }
-    if (!HasFailure()) {
-        std::filesystem::remove_all(gpuDir);
-        std::filesystem::remove_all(cpuDir);
-    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, VcamConvert,
